@@ -1,0 +1,83 @@
+/*
+ * raildyn C API: create a scene from a deck, step it, read outputs, set inputs.
+ *
+ * Handles are opaque (NEKO style): an integer that names a Fortran model object.
+ * There is no module-global simulation state: any number of models may live in one
+ * process. Every call returns an integer status (RD_OK = 0 on success); after a
+ * failure the message is available per handle with rd_error_message().
+ * All quantities are SI (docs/conventions.md); names of outputs are listed in
+ * docs/output.md and by rd_output_name().
+ */
+#ifndef RAILDYN_H
+#define RAILDYN_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef int64_t rd_handle;
+
+/* Status codes (mirror src/fortran/common/rd_error.f90). */
+enum {
+  RD_OK = 0,
+  RD_ERR_INPUT = 1,    /* bad deck, profile file or argument */
+  RD_ERR_RUNTIME = 2,  /* integrator failure, NaN in the state */
+  RD_ERR_PHYSICS = 3,  /* derailment, wheel lift-off beyond limits */
+  RD_ERR_IO = 4,       /* cannot read or write a file */
+  RD_ERR_INTERNAL = 5, /* an invariant of the code broke */
+  RD_ERR_HANDLE = 6    /* invalid handle or call order */
+};
+
+/* Library version as "MAJOR.MINOR.PATCH" (static storage). */
+const char *rd_version(void);
+
+/* Create a model from a deck file, or from deck text (relative paths in the text are
+ * resolved against base_dir; NULL or "" means the current directory). On failure a
+ * handle is still returned when possible, so that rd_error_message() can explain;
+ * destroy it afterwards. *handle is 0 if no handle could be made. */
+int rd_create_from_file(const char *deck_path, rd_handle *handle);
+int rd_create_from_string(const char *deck_text, const char *base_dir, rd_handle *handle);
+
+/* Build the scene (track, bodies, elements, contact), set the initial state,
+ * open the output file if the deck asks for one (write_output = 1) and write step 0. */
+int rd_initialize(rd_handle handle, int write_output);
+
+/* Integrate up to time t_target [s] (>= current time); outputs are written at the
+ * deck's output interval on the way. */
+int rd_advance(rd_handle handle, double t_target);
+
+/* Current simulated time [s]. */
+int rd_get_time(rd_handle handle, double *time);
+
+/* State vector of the integrator (free coordinates, their rates, internal states). */
+int rd_get_state_size(rd_handle handle, int *size);
+int rd_get_state(rd_handle handle, double *state, int size);
+
+/* Named outputs at the current time: count, names, sizes, values. */
+int rd_output_count(rd_handle handle, int *count);
+int rd_output_name(rd_handle handle, int index /* 1-based */, char *name, int name_len);
+int rd_output_size(rd_handle handle, const char *name, int *size);
+int rd_get_output(rd_handle handle, const char *name, double *values, int size);
+
+/* Set a named input, effective from the current time on. Known inputs:
+ *   "speed"                          [m/s]  running speed V (overrides the deck's law)
+ *   "body/<name>/external_force"     6 values, force [N] and moment [N m] at the centre of
+ *                                     mass, fixed-frame components */
+int rd_set_input(rd_handle handle, const char *name, const double *values, int size);
+
+/* Flush and close the output file; the model can still be queried. */
+int rd_finalize(rd_handle handle);
+
+/* Message of the last failure on this handle ("" if none); NUL-terminated, truncated
+ * to message_len - 1 characters. */
+int rd_error_message(rd_handle handle, char *message, int message_len);
+
+/* Free everything the handle owns (closes the output if still open). */
+int rd_destroy(rd_handle handle);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* RAILDYN_H */
