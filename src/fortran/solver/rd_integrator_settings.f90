@@ -1,0 +1,177 @@
+!> Integrator settings and statistics (the parameters an integrator is built from and
+!> the counters it reports). See docs/theory_solver.md for the meaning of each field.
+module rd_integrator_settings
+  use rd_kinds, only: wp, i8
+  use rd_error, only: error_t, make_error, RD_ERR_INPUT
+  implicit none
+  private
+  public :: integrator_settings_t, integrator_stats_t, validate_settings, method_id_from_name
+  public :: METHOD_BDF, METHOD_ADAMS, METHOD_ERK, METHOD_RK4, METHOD_HEUN, method_names
+
+  !> Method identifiers. The SUNDIALS ones equal the ids the C glue expects.
+  integer, parameter :: METHOD_BDF = 1    !< CVODE BDF, Newton + dense LAPACK
+  integer, parameter :: METHOD_ADAMS = 2  !< CVODE Adams-Moulton, fixed-point iteration
+  integer, parameter :: METHOD_ERK = 3    !< ARKODE ERKStep, Dormand-Prince 5(4)
+  integer, parameter :: METHOD_RK4 = 4    !< classical Runge-Kutta, fixed step
+  integer, parameter :: METHOD_HEUN = 5   !< Heun (explicit trapezoid), fixed step
+  character(len=*), parameter :: method_names = "'bdf', 'adams', 'erk', 'rk4' or 'heun'"
+
+  type :: integrator_settings_t
+    character(len=16) :: method = 'bdf'   !< 'bdf' | 'adams' | 'erk' | 'rk4' | 'heun'
+    real(wp) :: rtol = 1.0e-6_wp          !< relative tolerance [-]
+    real(wp) :: atol = 1.0e-8_wp          !< absolute tolerance, all components [state units]
+    !> Per-component absolute tolerances (size = state size); replaces `atol` if allocated.
+    real(wp), allocatable :: atol_vector(:)
+    real(wp) :: max_step = 0.0_wp         !< largest step [s]; 0 = unlimited
+    real(wp) :: min_step = 0.0_wp         !< smallest step [s]; 0 = no bound
+    real(wp) :: initial_step = 0.0_wp     !< first step [s]; 0 = estimated by SUNDIALS
+    integer :: max_num_steps = 100000     !< steps allowed in one advance call
+    real(wp) :: fixed_step = 0.0_wp       !< step of 'rk4'/'heun' [s] (required > 0 there)
+    integer :: max_order = 0              !< cap on the BDF (<= 5) or Adams (<= 12) order; 0 = default
+  end type integrator_settings_t
+
+  !> Counters, cumulative since `init` (reinit does not reset them).
+  type :: integrator_stats_t
+    integer(i8) :: steps = 0                   !< accepted steps
+    integer(i8) :: rhs_evals = 0               !< RHS calls by the method itself
+    integer(i8) :: rhs_evals_jacobian = 0      !< RHS calls for difference-quotient Jacobians
+    integer(i8) :: jacobian_evals = 0          !< Jacobian evaluations (DQ or analytic)
+    integer(i8) :: linear_setups = 0           !< Newton matrix factorizations (LU)
+    integer(i8) :: error_test_failures = 0     !< steps rejected by the local error test
+    integer(i8) :: nonlinear_conv_failures = 0 !< Newton / fixed-point convergence failures
+    integer(i8) :: reinits = 0                 !< calls to reinit
+    real(wp) :: last_step = 0.0_wp             !< size of the last accepted step [s]
+    real(wp) :: next_step = 0.0_wp             !< step size to be tried next [s]
+    integer :: current_order = 0               !< order used on the last step
+  end type integrator_stats_t
+
+contains
+
+  !> Map a method name (case-insensitive, blanks ignored) to its id; 0 if unknown.
+  pure function method_id_from_name(name) result(id)
+    character(len=*), intent(in) :: name
+    integer :: id
+    select case (lower(trim(adjustl(name))))
+    case ('bdf'); id = METHOD_BDF
+    case ('adams'); id = METHOD_ADAMS
+    case ('erk'); id = METHOD_ERK
+    case ('rk4'); id = METHOD_RK4
+    case ('heun'); id = METHOD_HEUN
+    case default; id = 0
+    end select
+  end function method_id_from_name
+
+  !> Check the settings for a state of size n; one clear message per problem.
+  subroutine validate_settings(settings, n, error)
+    type(integrator_settings_t), intent(in) :: settings
+    integer, intent(in) :: n
+    type(error_t), allocatable, intent(out) :: error
+    integer :: id
+    character(len=32) :: buf
+
+    id = method_id_from_name(settings%method)
+    if (id == 0) then
+      call make_error(error, RD_ERR_INPUT, "method = '" // trim(settings%method) // &
+                      "' is unknown; expected " // method_names)
+      return
+    end if
+    if (.not. (settings%rtol >= 0.0_wp .and. settings%rtol < 1.0_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'rtol = ' // fmt(settings%rtol) // &
+                      ' is invalid; expected 0 <= rtol < 1 (e.g. 1e-6)')
+      return
+    end if
+    if (allocated(settings%atol_vector)) then
+      if (size(settings%atol_vector) /= n) then
+        write (buf, '(i0, " /= ", i0)') size(settings%atol_vector), n
+        call make_error(error, RD_ERR_INPUT, 'atol_vector has the wrong size (' // &
+                        trim(buf) // '); expected one tolerance per state component')
+        return
+      end if
+      if (.not. all(settings%atol_vector >= 0.0_wp)) then
+        call make_error(error, RD_ERR_INPUT, 'atol_vector has a negative or NaN entry; ' // &
+                        'expected absolute tolerances >= 0')
+        return
+      end if
+      if (settings%rtol == 0.0_wp .and. any(settings%atol_vector == 0.0_wp)) then
+        call make_error(error, RD_ERR_INPUT, 'rtol = 0 with a zero entry in atol_vector; ' // &
+                        'expected at least one positive tolerance per component')
+        return
+      end if
+    else
+      if (.not. (settings%atol >= 0.0_wp)) then
+        call make_error(error, RD_ERR_INPUT, 'atol = ' // fmt(settings%atol) // &
+                        ' is invalid; expected atol >= 0 (e.g. 1e-8)')
+        return
+      end if
+      if (settings%rtol == 0.0_wp .and. settings%atol == 0.0_wp) then
+        call make_error(error, RD_ERR_INPUT, 'rtol and atol are both zero; ' // &
+                        'expected at least one positive tolerance')
+        return
+      end if
+    end if
+    if (.not. (settings%max_step >= 0.0_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'max_step = ' // fmt(settings%max_step) // &
+                      ' is invalid; expected max_step >= 0 s (0 = unlimited)')
+      return
+    end if
+    if (.not. (settings%min_step >= 0.0_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'min_step = ' // fmt(settings%min_step) // &
+                      ' is invalid; expected min_step >= 0 s')
+      return
+    end if
+    if (settings%max_step > 0.0_wp .and. settings%min_step > settings%max_step) then
+      call make_error(error, RD_ERR_INPUT, 'min_step > max_step; expected min_step <= max_step')
+      return
+    end if
+    if (.not. (settings%initial_step >= 0.0_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'initial_step = ' // fmt(settings%initial_step) // &
+                      ' is invalid; expected initial_step >= 0 s (0 = automatic)')
+      return
+    end if
+    if (settings%max_num_steps <= 0) then
+      call make_error(error, RD_ERR_INPUT, 'max_num_steps must be a positive integer ' // &
+                      '(steps allowed per advance, e.g. 100000)')
+      return
+    end if
+    select case (id)
+    case (METHOD_BDF)
+      if (settings%max_order < 0 .or. settings%max_order > 5) then
+        call make_error(error, RD_ERR_INPUT, "max_order is invalid for method 'bdf'; " // &
+                        'expected 1..5 (0 = default 5)')
+        return
+      end if
+    case (METHOD_ADAMS)
+      if (settings%max_order < 0 .or. settings%max_order > 12) then
+        call make_error(error, RD_ERR_INPUT, "max_order is invalid for method 'adams'; " // &
+                        'expected 1..12 (0 = default 12)')
+        return
+      end if
+    case (METHOD_RK4, METHOD_HEUN)
+      if (.not. (settings%fixed_step > 0.0_wp .and. settings%fixed_step < huge(1.0_wp))) then
+        call make_error(error, RD_ERR_INPUT, 'fixed_step = ' // fmt(settings%fixed_step) // &
+                        " is invalid for method '" // trim(adjustl(settings%method)) // &
+                        "'; expected a step size > 0 s")
+        return
+      end if
+    end select
+  end subroutine validate_settings
+
+  pure function lower(s) result(r)
+    character(len=*), intent(in) :: s
+    character(len=len(s)) :: r
+    integer :: i, c
+    r = s
+    do i = 1, len(s)
+      c = iachar(s(i:i))
+      if (c >= iachar('A') .and. c <= iachar('Z')) r(i:i) = achar(c + 32)
+    end do
+  end function lower
+
+  function fmt(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=32) :: buf
+    write (buf, '(es12.4)') x
+    s = trim(adjustl(buf))
+  end function fmt
+end module rd_integrator_settings

@@ -1,0 +1,126 @@
+!> The object an integrator hands to its stepping engine (SUNDIALS through the C glue,
+!> or the fixed-step Runge-Kutta loop): the ODE system, an optional analytic Jacobian,
+!> and the last failure the right-hand side reported (kept so `advance` can quote it).
+!>
+!> Every RHS evaluation of every method goes through `evaluate_rhs`, which turns the
+!> system's error object into SUNDIALS' return convention (0 ok, > 0 recoverable,
+!> < 0 fatal) and refuses non-finite derivatives, so a NaN never enters the state silently.
+module rd_rhs_context
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use rd_kinds, only: wp, i8
+  use rd_error, only: error_t, make_error, error_context, RD_ERR_RUNTIME
+  use rd_ode_system, only: ode_system_t
+  implicit none
+  private
+  public :: rhs_context_t, jacobian_i, real_to_text, RHS_OK, RHS_RECOVERABLE, RHS_FATAL
+
+  integer, parameter :: RHS_OK = 0
+  integer, parameter :: RHS_RECOVERABLE = 1
+  integer, parameter :: RHS_FATAL = -1
+
+  abstract interface
+    !> Analytic (or coloured finite-difference) Jacobian J(i, j) = d ydot(i) / d y(j) at
+    !> (t, y), where ydot = f(t, y) is given. Used by method 'bdf' only.
+    subroutine jacobian_i(system, t, y, ydot, jac, error)
+      import :: ode_system_t, wp, error_t
+      class(ode_system_t), intent(inout) :: system
+      real(wp), intent(in) :: t
+      real(wp), intent(in) :: y(:)
+      real(wp), intent(in) :: ydot(:)
+      real(wp), intent(out) :: jac(:, :)
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine jacobian_i
+  end interface
+
+  type :: rhs_context_t
+    class(ode_system_t), pointer :: system => null()
+    procedure(jacobian_i), pointer, nopass :: jacobian => null()
+    type(error_t), allocatable :: rhs_error   !< last failure reported by the RHS or Jacobian
+    integer(i8) :: rhs_failures = 0           !< RHS calls that failed (recoverable or not)
+  contains
+    procedure :: evaluate_rhs
+    procedure :: evaluate_jacobian
+  end type rhs_context_t
+
+contains
+
+  !> ydot = f(t, y) with the failure convention above.
+  function evaluate_rhs(self, t, y, ydot) result(status)
+    class(rhs_context_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    real(wp), intent(out) :: ydot(:)
+    integer :: status
+    type(error_t), allocatable :: error
+    logical :: recoverable
+    integer :: i
+
+    recoverable = .false.
+    call self%system%rhs(t, y, ydot, error, recoverable)
+    if (allocated(error)) then
+      call error_context(error, 'rhs at t = ' // real_to_text(t) // ' s')
+      call move_alloc(error, self%rhs_error)
+      self%rhs_failures = self%rhs_failures + 1
+      status = merge(RHS_RECOVERABLE, RHS_FATAL, recoverable)
+      return
+    end if
+    do i = 1, size(ydot)
+      if (.not. ieee_is_finite(ydot(i))) then
+        ! A non-finite derivative is often a trial state far off (too large a step);
+        ! report it as recoverable so an adaptive method retries with a smaller step.
+        call make_error(self%rhs_error, RD_ERR_RUNTIME, 'rhs at t = ' // real_to_text(t) // &
+                        ' s returned a non-finite derivative (NaN or Inf) in component ' // &
+                        int_to_text(i))
+        if (.not. all(ieee_is_finite(y))) self%rhs_error%message = &
+          self%rhs_error%message // ' (the state itself is non-finite)'
+        self%rhs_failures = self%rhs_failures + 1
+        status = RHS_RECOVERABLE
+        return
+      end if
+    end do
+    status = RHS_OK
+  end function evaluate_rhs
+
+  !> jac = df/dy at (t, y) through the user's Jacobian procedure.
+  function evaluate_jacobian(self, t, y, ydot, jac) result(status)
+    class(rhs_context_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    real(wp), intent(in) :: ydot(:)
+    real(wp), intent(out) :: jac(:, :)
+    integer :: status
+    type(error_t), allocatable :: error
+
+    call self%jacobian(self%system, t, y, ydot, jac, error)
+    if (allocated(error)) then
+      call error_context(error, 'jacobian at t = ' // real_to_text(t) // ' s')
+      call move_alloc(error, self%rhs_error)
+      status = RHS_FATAL
+      return
+    end if
+    if (.not. all(ieee_is_finite(jac))) then
+      call make_error(self%rhs_error, RD_ERR_RUNTIME, 'jacobian at t = ' // real_to_text(t) // &
+                      ' s has a non-finite entry (NaN or Inf)')
+      status = RHS_RECOVERABLE
+      return
+    end if
+    status = RHS_OK
+  end function evaluate_jacobian
+
+  !> Short text for a real in messages (e.g. "1.2345678E-03").
+  function real_to_text(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=32) :: buf
+    write (buf, '(es15.8)') x
+    s = trim(adjustl(buf))
+  end function real_to_text
+
+  function int_to_text(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=16) :: buf
+    write (buf, '(i0)') i
+    s = trim(buf)
+  end function int_to_text
+end module rd_rhs_context
