@@ -29,7 +29,7 @@
 !> the output). Unwritten cells have the fill value NaN, so a row that a crash left
 !> half-written cannot be mistaken for data.
 module rd_hdf5_writer
-  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_loc, c_ptr, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_char, c_loc, c_ptr, c_null_char
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use hdf5
   use rd_kinds, only: wp, i8
@@ -50,11 +50,11 @@ module rd_hdf5_writer
   integer, parameter :: DEFAULT_FLUSH_EVERY = 256
 
   !> H5Fstart_swmr_write has no Fortran wrapper in HDF5 1.10; the C routine takes the
-  !> same hid_t (int64_t) the Fortran API hands out.
+  !> same hid_t (int64_t in HDF5 >= 1.10, H5Ipublic.h) the Fortran API hands out.
   interface
     function c_h5fstart_swmr_write(file_id) bind(C, name='H5Fstart_swmr_write') result(status)
-      import :: c_int, hid_t
-      integer(hid_t), value :: file_id
+      import :: c_int, c_int64_t
+      integer(c_int64_t), value :: file_id
       integer(c_int) :: status
     end function c_h5fstart_swmr_write
   end interface
@@ -698,6 +698,10 @@ contains
   subroutine start_stepping(self, error)
     class(h5_writer_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: error
+    if (hid_t /= c_int64_t) then   ! the C binding above assumes hid_t = int64_t
+      call io_error(error, self%filename, 'HDF5 hid_t is not 64-bit; SWMR binding unusable')
+      return
+    end if
     if (c_h5fstart_swmr_write(self%file) < 0) then
       call io_error(error, self%filename, 'cannot start SWMR write mode')
       return
