@@ -1,0 +1,61 @@
+"""Shared pytest fixtures: the package on sys.path, the build directory, and a writer of
+results files with the layout of docs/output.md built directly with h5py (independent of
+the Fortran writer)."""
+
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+if str(REPO / "python") not in sys.path:
+    sys.path.insert(0, str(REPO / "python"))
+
+
+@pytest.fixture(scope="session")
+def build_dir() -> Path:
+    """Build tree: $RAILDYN_BUILD_DIR (ctest sets it) or <repo>/build."""
+    return Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build"))
+
+
+def write_layout_file(path, time, series, root_attrs=None, meta_attrs=None, solver=None,
+                      deck_text=None):
+    """Write a results file by hand following docs/output.md.
+
+    series: {path: (data (n, ncomp), unit, components, description)}.
+    """
+    import h5py
+    import numpy as np
+
+    with h5py.File(path, "w", libver="latest") as f:
+        attrs = {"format": np.bytes_("raildyn-results"), "format_version": np.int64(1)}
+        attrs.update(root_attrs or {})
+        for k, v in attrs.items():
+            f.attrs[k] = np.bytes_(v) if isinstance(v, str) else v
+        meta = f.create_group("meta")
+        for k, v in (meta_attrs or {}).items():
+            meta.attrs[k] = np.bytes_(v) if isinstance(v, str) else v
+        sol = meta.create_group("solver")
+        for k, v in (solver or {}).items():
+            sol.attrs[k] = v
+        if deck_text is not None:
+            meta["deck_text"] = np.bytes_(deck_text)
+        t = f.create_dataset("time", data=np.asarray(time, float), maxshape=(None,), chunks=True)
+        t.attrs["unit"] = np.bytes_("s")
+        t.attrs["components"] = np.bytes_("time")
+        for name, (data, unit, components, description) in series.items():
+            data = np.asarray(data, float)
+            d = f.create_dataset(name, data=data, maxshape=(None, data.shape[1]), chunks=True)
+            d.attrs["unit"] = np.bytes_(unit)
+            d.attrs["components"] = np.bytes_(components)
+            d.attrs["description"] = np.bytes_(description)
+    return path
+
+
+@pytest.fixture
+def make_results_file(tmp_path):
+    """Factory: make_results_file(name, time, series, **attrs) -> path."""
+    def make(name, time, series, **kwargs):
+        return write_layout_file(tmp_path / name, time, series, **kwargs)
+    return make
