@@ -1,0 +1,137 @@
+!> FASTSIM (Kalker 1982, "A fast algorithm for the simplified theory of rolling contact";
+!> thesis 3.6.3, eqs. 3.44-3.57) with three flexibilities
+!>   L1 = 8a/(3 G C11), L2 = 8a/(3 G C22), L3 = pi a sqrt(a/b) / (4 G C23)   (eq. 3.57)
+!> (the thesis' eq. 3.56 spin term should read pi a^3 b phi / (4 L3); 3.57 is right).
+!>
+!> The ellipse is cut into ny strips along y; each strip is marched from its leading edge
+!> x = +a_j (traction zero) towards the trailing edge in nx elements. Tractions ON THE
+!> WHEEL grow in adhesion as dp_x = -(xi/L1 - phi y/L3) ds, dp_y = -(eta/L2 + phi x/L3) ds
+!> (slip w = (xi - phi y, eta + phi x), eq. 3.45; ds the marched distance), and are
+!> clipped to the traction bound mu p(x, y) where they exceed it (eqs. 3.52-3.53).
+!> Half-step start: tractions are evaluated at element centres (first step ds = dx/2, the
+!> x-dependent slip at the middle of each step), which makes the march exact for the
+!> linear adhesion field and removes the O(1/n) error of the textbook march (oracles.md).
+!> Traction bound: parabolic p = 2N/(pi a b)(1 - x^2/a^2 - y^2/b^2) (Kalker's choice,
+!> default) or elliptic (Hertz) p = 3N/(2 pi a b) sqrt(1 - x^2/a^2 - y^2/b^2).
+!> Spin moment Mz = sum (x p_y - y p_x) dA from the traction field. No allocation.
+module rd_creep_fastsim
+  use rd_kinds, only: wp, pi
+  use rd_error, only: error_t, make_error, RD_ERR_INPUT
+  use rd_creep_law, only: creep_law_t, contact_patch_t, creepage_t, creep_force_t, &
+                          creep_law_options_t, patch_is_loaded
+  use rd_kalker_coefficients, only: kalker_coefficients
+  implicit none
+  private
+  public :: creep_fastsim_t, creep_fastsim_create
+
+  integer, parameter, public :: BOUND_PARABOLIC = 1, BOUND_ELLIPTIC = 2
+
+  type, extends(creep_law_t) :: creep_fastsim_t
+    integer :: nx = 20
+    integer :: ny = 20
+    integer :: bound = BOUND_PARABOLIC
+  contains
+    procedure :: compute => fastsim_compute
+    procedure :: name => fastsim_name
+  end type creep_fastsim_t
+
+contains
+
+  subroutine creep_fastsim_create(options, law, error)
+    type(creep_law_options_t), intent(in) :: options
+    class(creep_law_t), allocatable, intent(out) :: law
+    type(error_t), allocatable, intent(out) :: error
+    type(creep_fastsim_t) :: fastsim
+    if (options%grid_nx < 1 .or. options%grid_ny < 1 .or. options%grid_nx > 100000 &
+        .or. options%grid_ny > 100000) then
+      call make_error(error, RD_ERR_INPUT, 'fastsim: grid must be between 1 and 100000 elements per direction')
+      return
+    end if
+    fastsim%nx = options%grid_nx
+    fastsim%ny = options%grid_ny
+    select case (trim(adjustl(options%bound)))
+    case ('parabolic', ''); fastsim%bound = BOUND_PARABOLIC
+    case ('elliptic'); fastsim%bound = BOUND_ELLIPTIC
+    case default
+      call make_error(error, RD_ERR_INPUT, 'fastsim: traction bound "' // trim(options%bound) // &
+                      '" unknown; expected ''parabolic'' or ''elliptic''')
+      return
+    end select
+    allocate (law, source=fastsim)
+  end subroutine creep_fastsim_create
+
+  pure subroutine fastsim_compute(self, patch, creep, force)
+    class(creep_fastsim_t), intent(in) :: self
+    type(contact_patch_t), intent(in) :: patch
+    type(creepage_t), intent(in) :: creep
+    type(creep_force_t), intent(out) :: force
+    real(wp) :: c11, c22, c23, c33, a, b, g, l1, l2, l3, p_scale, dy, y, aj, dx, x, x_prev, step
+    real(wp) :: px, py, t, bound, rel, rate_x, fx, fy, mz, sx, sy, sm
+    integer :: i, j
+    if (.not. patch_is_loaded(patch)) return
+    a = patch%a
+    b = patch%b
+    g = patch%shear_modulus
+    call kalker_coefficients(a / b, patch%poisson, c11, c22, c23, c33)
+    l1 = 8.0_wp * a / (3.0_wp * g * c11)
+    l2 = 8.0_wp * a / (3.0_wp * g * c22)
+    l3 = pi * a * sqrt(a / b) / (4.0_wp * g * c23)
+    if (self%bound == BOUND_ELLIPTIC) then
+      p_scale = patch%friction * 1.5_wp * patch%normal_force / (pi * a * b)
+    else
+      p_scale = patch%friction * 2.0_wp * patch%normal_force / (pi * a * b)
+    end if
+    dy = 2.0_wp * b / self%ny
+    fx = 0.0_wp; fy = 0.0_wp; mz = 0.0_wp
+    do j = 1, self%ny
+      y = -b + (j - 0.5_wp) * dy
+      aj = a * sqrt(max(0.0_wp, 1.0_wp - (y / b)**2))
+      dx = 2.0_wp * aj / self%nx
+      rate_x = creep%xi / l1 - creep%phi * y / l3
+      px = 0.0_wp; py = 0.0_wp
+      sx = 0.0_wp; sy = 0.0_wp; sm = 0.0_wp
+      x_prev = aj
+      do i = 1, self%nx
+        x = aj - (i - 0.5_wp) * dx
+        step = x_prev - x
+        px = px - rate_x * step
+        py = py - (creep%eta / l2 + creep%phi * 0.5_wp * (x_prev + x) / l3) * step
+        rel = max(0.0_wp, 1.0_wp - (x / a)**2 - (y / b)**2)
+        if (self%bound == BOUND_ELLIPTIC) then
+          bound = p_scale * sqrt(rel)
+        else
+          bound = p_scale * rel
+        end if
+        t = hypot(px, py)
+        if (t > bound) then       ! slip: traction on the bound, direction kept (eq. 3.53)
+          if (t > 0.0_wp) then
+            px = px * (bound / t)
+            py = py * (bound / t)
+          end if
+        end if
+        sx = sx + px
+        sy = sy + py
+        sm = sm + x * py - y * px
+        x_prev = x
+      end do
+      fx = fx + sx * dx
+      fy = fy + sy * dx
+      mz = mz + sm * dx
+    end do
+    force%fx = fx * dy
+    force%fy = fy * dy
+    force%mz = mz * dy
+  end subroutine fastsim_compute
+
+  pure function fastsim_name(self) result(name)
+    class(creep_fastsim_t), intent(in) :: self
+    character(len=:), allocatable :: name
+    character(len=24) :: grid
+    write (grid, '(i0,"x",i0)') self%nx, self%ny
+    if (self%bound == BOUND_ELLIPTIC) then
+      name = 'fastsim ' // trim(grid) // ' elliptic bound'
+    else
+      name = 'fastsim ' // trim(grid) // ' parabolic bound'
+    end if
+  end function fastsim_name
+end module rd_creep_fastsim
