@@ -128,9 +128,13 @@ class Results:
         if path in self._channels or path == "time":
             return path, None
         if ":" in path:
-            path, component = path.rsplit(":", 1)
-            if path in self._channels:
-                return path, component
+            series, component = path.rsplit(":", 1)
+            if series in self._channels:
+                names = self.components(series)
+                if component not in names:
+                    raise KeyError(f"{self.path}: series {series!r} has no component "
+                                   f"{component!r}; components: {' '.join(names)}")
+                return series, component
         raise KeyError(f"{self.path}: no series {channel!r}; available: {', '.join(self._channels)}")
 
     def get(self, channel: str) -> np.ndarray:
@@ -140,11 +144,7 @@ class Results:
         data = self._file[path][: self._n]
         if component is None:
             return data
-        names = self.components(path)
-        if component not in names:
-            raise KeyError(f"{self.path}: series {path!r} has no component {component!r}; "
-                           f"components: {' '.join(names)}")
-        return data[:, names.index(component)]
+        return data[:, self.components(path).index(component)]
 
     def __getitem__(self, channel: str) -> np.ndarray:
         return self.get(channel)
