@@ -1,0 +1,590 @@
+!> The single definition of every deck group and parameter: type, SI unit,
+!> default or "required", valid range or allowed values, path and reference
+!> kinds, and a one-line meaning. The reader (rd_deck), the cross-checks and
+!> the generated reference (docs/input_reference.md, write_schema_markdown)
+!> are all driven by this table, so they cannot disagree.
+!>
+!> Conditional rules that involve several parameters (radius required for a
+!> curve, profiles required for profile contact, ...) are listed in a
+!> parameter's `condition` text for the reference and enforced in
+!> rd_deck_checks.
+module rd_deck_schema
+  use rd_kinds, only: wp, standard_gravity
+  use rd_deck_text, only: deck_string_t, single_string, to_lower, real_to_str, int_to_str, edit_distance
+  implicit none
+  private
+  public :: param_schema_t, group_schema_t, deck_schema_t, build_deck_schema
+  public :: find_group, find_param, suggest_name, type_text, default_text, range_text
+  public :: write_schema_markdown
+  public :: PT_REAL, PT_INTEGER, PT_STRING, PT_LOGICAL, PT_REAL_ARRAY, PT_STRING_LIST
+  public :: DEF_REQUIRED, DEF_VALUE, DEF_OPTIONAL, DEF_PREVIOUS, DEF_DECK_STEM
+
+  integer, parameter :: PT_REAL = 1, PT_INTEGER = 2, PT_STRING = 3, PT_LOGICAL = 4, &
+                        PT_REAL_ARRAY = 5, PT_STRING_LIST = 6
+
+  !> How a parameter the user did not write gets its value.
+  integer, parameter :: DEF_REQUIRED = 1   !< must be written
+  integer, parameter :: DEF_VALUE = 2      !< the schema default
+  integer, parameter :: DEF_OPTIONAL = 3   !< no value; ask deck%given first
+  integer, parameter :: DEF_PREVIOUS = 4   !< previous occurrence's value, else the default
+  integer, parameter :: DEF_DECK_STEM = 5  !< the deck's stem + a suffix (output file)
+
+  type :: param_schema_t
+    character(len=:), allocatable :: name, unit, meaning
+    integer :: ptype = PT_REAL
+    integer :: size = 1                 !< fixed length of a real array; 0 = variable
+    integer :: default_kind = DEF_VALUE
+    real(wp), allocatable :: default_reals(:)
+    integer :: default_integer = 0
+    logical :: default_logical = .false.
+    type(deck_string_t), allocatable :: default_strings(:)  !< string, or list, or stem suffix
+    logical :: has_min = .false., has_max = .false., min_open = .false., max_open = .false.
+    real(wp) :: min = 0.0_wp, max = 0.0_wp
+    logical :: increasing = .false.     !< real array must be strictly increasing
+    type(deck_string_t), allocatable :: allowed(:)   !< allowed strings (lower case)
+    logical :: is_path = .false., must_exist = .false.
+    type(deck_string_t), allocatable :: path_keywords(:)  !< e.g. 's1002' instead of a file
+    character(len=:), allocatable :: ref_group      !< value names an entity of this group
+    type(deck_string_t), allocatable :: ref_keywords(:)   !< e.g. 'ground', 'own'
+    logical :: unique = .false.         !< value unique among the group's entities ('name')
+    character(len=:), allocatable :: condition      !< cross-parameter rule, for the docs
+  end type param_schema_t
+
+  type :: group_schema_t
+    character(len=:), allocatable :: name, meaning
+    logical :: repeatable = .false.
+    type(param_schema_t), allocatable :: params(:)
+  end type group_schema_t
+
+  type :: deck_schema_t
+    type(group_schema_t), allocatable :: groups(:)
+  end type deck_schema_t
+
+contains
+
+  ! ---------------------------------------------------------------------
+  ! Small constructors so the schema below reads like a table.
+  ! ---------------------------------------------------------------------
+  function strs(list) result(out)
+    character(len=*), intent(in) :: list   !< '|'-separated
+    type(deck_string_t), allocatable :: out(:)
+    integer :: k, start, n
+    n = 0
+    if (len(list) > 0) n = count([(list(k:k) == '|', k=1, len(list))]) + 1
+    allocate (out(n))
+    start = 1
+    do k = 1, n
+      if (k < n) then
+        out(k)%s = list(start:start + index(list(start:), '|') - 2)
+        start = start + index(list(start:), '|')
+      else
+        out(k)%s = list(start:)
+      end if
+    end do
+  end function strs
+
+  function base(name, ptype, unit, meaning, required, cond) result(p)
+    character(len=*), intent(in) :: name, unit, meaning
+    integer, intent(in) :: ptype
+    logical, intent(in), optional :: required
+    character(len=*), intent(in), optional :: cond
+    type(param_schema_t) :: p
+    p%name = name; p%ptype = ptype; p%unit = unit; p%meaning = meaning
+    p%default_kind = DEF_OPTIONAL
+    if (present(required)) then
+      if (required) p%default_kind = DEF_REQUIRED
+    end if
+    p%condition = ''
+    if (present(cond)) p%condition = cond
+    allocate (p%default_reals(0), p%default_strings(0), p%allowed(0), p%path_keywords(0), &
+              p%ref_keywords(0))
+    p%ref_group = ''
+  end function base
+
+  subroutine set_range(p, min, max, min_open, max_open)
+    type(param_schema_t), intent(inout) :: p
+    real(wp), intent(in), optional :: min, max
+    logical, intent(in), optional :: min_open, max_open
+    if (present(min)) then
+      p%has_min = .true.; p%min = min
+    end if
+    if (present(max)) then
+      p%has_max = .true.; p%max = max
+    end if
+    if (present(min_open)) p%min_open = min_open
+    if (present(max_open)) p%max_open = max_open
+  end subroutine set_range
+
+  !> Real scalar.
+  function preal(name, unit, meaning, default, required, min, max, min_open, max_open, &
+                 previous, cond) result(p)
+    character(len=*), intent(in) :: name, unit, meaning
+    real(wp), intent(in), optional :: default, min, max
+    logical, intent(in), optional :: required, min_open, max_open, previous
+    character(len=*), intent(in), optional :: cond
+    type(param_schema_t) :: p
+    p = base(name, PT_REAL, unit, meaning, required, cond)
+    if (present(default)) then
+      p%default_kind = DEF_VALUE; p%default_reals = [default]
+    end if
+    if (present(previous)) then
+      if (previous) p%default_kind = DEF_PREVIOUS
+    end if
+    call set_range(p, min, max, min_open, max_open)
+  end function preal
+
+  function pint(name, unit, meaning, default, min, max) result(p)
+    character(len=*), intent(in) :: name, unit, meaning
+    integer, intent(in) :: default
+    integer, intent(in), optional :: min, max
+    type(param_schema_t) :: p
+    p = base(name, PT_INTEGER, unit, meaning)
+    p%default_kind = DEF_VALUE; p%default_integer = default
+    if (present(min)) call set_range(p, min=real(min, wp))
+    if (present(max)) call set_range(p, max=real(max, wp))
+  end function pint
+
+  function plog(name, meaning, default) result(p)
+    character(len=*), intent(in) :: name, meaning
+    logical, intent(in) :: default
+    type(param_schema_t) :: p
+    p = base(name, PT_LOGICAL, '-', meaning)
+    p%default_kind = DEF_VALUE; p%default_logical = default
+  end function plog
+
+  !> String; `allowed` is a '|'-separated list (compared case-insensitively).
+  function pstr(name, meaning, default, allowed, required, cond) result(p)
+    character(len=*), intent(in) :: name, meaning
+    character(len=*), intent(in), optional :: default, allowed
+    logical, intent(in), optional :: required
+    character(len=*), intent(in), optional :: cond
+    type(param_schema_t) :: p
+    p = base(name, PT_STRING, '-', meaning, required, cond)
+    if (present(default)) then
+      p%default_kind = DEF_VALUE
+      p%default_strings = single_string(default)
+    end if
+    if (present(allowed)) p%allowed = strs(allowed)
+  end function pstr
+
+  !> Real array of fixed length n (n > 0) or variable length (n = 0).
+  function parray(name, unit, meaning, n, default, increasing, cond) result(p)
+    character(len=*), intent(in) :: name, unit, meaning
+    integer, intent(in) :: n
+    real(wp), intent(in), optional :: default(:)
+    logical, intent(in), optional :: increasing
+    character(len=*), intent(in), optional :: cond
+    type(param_schema_t) :: p
+    p = base(name, PT_REAL_ARRAY, unit, meaning, cond=cond)
+    p%size = n
+    if (present(default)) then
+      p%default_kind = DEF_VALUE; p%default_reals = default
+    end if
+    if (present(increasing)) p%increasing = increasing
+  end function parray
+
+  function pstrlist(name, meaning, allowed) result(p)
+    character(len=*), intent(in) :: name, meaning, allowed
+    type(param_schema_t) :: p
+    p = base(name, PT_STRING_LIST, '-', meaning)
+    p%size = 0
+    p%default_kind = DEF_VALUE
+    p%allowed = strs(allowed)
+  end function pstrlist
+
+  function path_param(p, must_exist, keywords) result(q)
+    type(param_schema_t), intent(in) :: p
+    logical, intent(in) :: must_exist
+    character(len=*), intent(in), optional :: keywords
+    type(param_schema_t) :: q
+    q = p
+    q%is_path = .true.; q%must_exist = must_exist
+    if (present(keywords)) q%path_keywords = strs(keywords)
+  end function path_param
+
+  function ref_param(p, group, keywords) result(q)
+    type(param_schema_t), intent(in) :: p
+    character(len=*), intent(in) :: group
+    character(len=*), intent(in), optional :: keywords
+    type(param_schema_t) :: q
+    q = p
+    q%ref_group = group
+    if (present(keywords)) q%ref_keywords = strs(keywords)
+  end function ref_param
+
+  function unique_name(meaning) result(p)
+    character(len=*), intent(in) :: meaning
+    type(param_schema_t) :: p
+    p = pstr('name', meaning, required=.true.)
+    p%unique = .true.
+  end function unique_name
+
+  function vec3(name, unit, meaning) result(p)
+    character(len=*), intent(in) :: name, unit, meaning
+    type(param_schema_t) :: p
+    p = parray(name, unit, meaning, 3, [0.0_wp, 0.0_wp, 0.0_wp])
+  end function vec3
+
+  subroutine add_group(s, name, repeatable, meaning, params)
+    type(deck_schema_t), intent(inout) :: s
+    character(len=*), intent(in) :: name, meaning
+    logical, intent(in) :: repeatable
+    type(param_schema_t), intent(in) :: params(:)
+    type(group_schema_t) :: g
+    g%name = name; g%repeatable = repeatable; g%meaning = meaning
+    g%params = params
+    s%groups = [s%groups, g]
+  end subroutine add_group
+
+  ! ---------------------------------------------------------------------
+  ! The schema.
+  ! ---------------------------------------------------------------------
+  function build_deck_schema() result(s)
+    type(deck_schema_t) :: s
+    real(wp), parameter :: zero = 0.0_wp
+    type(param_schema_t) :: p
+    allocate (s%groups(0))
+
+    call add_group(s, 'simulation', .false., 'the run: duration, gravity, running speed, start', [ &
+      pstr('title', 'free text stored with the results', default=''), &
+      preal('t_end', 's', 'simulated time', required=.true., min=zero, min_open=.true.), &
+      preal('gravity', 'm/s2', 'gravitational acceleration', default=standard_gravity, &
+            min=zero, max=100.0_wp), &
+      preal('speed', 'm/s', 'constant running speed along the track', default=zero, min=zero, &
+            cond='not together with speed_times'), &
+      parray('speed_times', 's', 'times of the piecewise-linear speed law', 0, increasing=.true., &
+             cond='strictly increasing; same length as speed_values'), &
+      parray('speed_values', 'm/s', 'speeds of the piecewise-linear speed law', 0, &
+             cond='same length as speed_times; each >= 0'), &
+      preal('start_sigma', 'm', 'track position of the vehicle reference at t = 0', default=zero), &
+      pstr('equilibrium', 'initial equilibrium: suspension preloads, static solve, or none', &
+           default='preload', allowed='preload|solve|none'), &
+      preal('max_wheel_lift', 'm', 'wheel lift-off beyond this stops the run', default=0.005_wp, &
+            min=zero, min_open=.true.), &
+      plog('stop_on_derailment', 'stop the run when a wheel lifts beyond max_wheel_lift', .true.)])
+
+    call add_group(s, 'solver', .false., 'time integration', [ &
+      pstr('method', 'integrator (bdf, adams: CVODE; erk: ARKODE explicit; rk4: fixed step)', &
+           default='bdf', allowed='bdf|adams|erk|rk4'), &
+      preal('rtol', '-', 'relative tolerance', default=1.0e-6_wp, min=zero, max=1.0_wp, &
+            min_open=.true., max_open=.true.), &
+      preal('atol', '-', 'absolute tolerance (state units)', default=1.0e-8_wp, min=zero, &
+            min_open=.true.), &
+      preal('max_step', 's', 'largest step; 0 = unlimited', default=zero, min=zero), &
+      preal('min_step', 's', 'smallest step', default=zero, min=zero), &
+      preal('initial_step', 's', 'first step; 0 = automatic', default=zero, min=zero), &
+      pint('max_num_steps', '-', 'steps allowed between two outputs', 100000, min=1), &
+      preal('fixed_step', 's', 'step of the fixed-step rk4 method', default=1.0e-4_wp, min=zero, &
+            min_open=.true., cond='used by rk4 only'), &
+      pint('max_order', '-', 'largest method order; 0 = method default', 0, min=0, max=12)])
+
+    p = pstr('file', 'results file (HDF5), relative to the deck unless absolute')
+    p = path_param(p, .false.)
+    p%default_kind = DEF_DECK_STEM; p%default_strings = single_string('.h5')
+    call add_group(s, 'output', .false., 'results file and output rate', [ &
+      p, &
+      preal('interval', 's', 'output interval', default=0.01_wp, min=zero, min_open=.true.), &
+      pint('flush_every', '-', 'output steps between flushes of the file', 50, min=1), &
+      pstr('progress', 'progress line on the terminal', default='auto', allowed='auto|on|off')])
+
+    call add_group(s, 'track', .false., 'track layout and rail geometry', [ &
+      preal('gauge', 'm', 'track gauge', default=1.435_wp, min=0.5_wp, max=2.0_wp), &
+      preal('cant_base', 'm', 'distance between the rail contact points used for cant', &
+            default=1.5_wp, min=0.5_wp, max=2.5_wp), &
+      preal('rail_inclination', '-', 'tangent of the rail cant (1:40 = 0.025)', default=0.025_wp, &
+            min=zero, max=0.1_wp), &
+      path_param(pstr('survey_file', 'track survey points instead of &segment groups', &
+                      cond='no &segment allowed when given'), .true.), &
+      preal('start_heading', 'rad', 'heading of the track at sigma = 0', default=zero), &
+      vec3('start_position', 'm', 'fixed-frame position of the track at sigma = 0')])
+
+    call add_group(s, 'segment', .true., 'one piece of track layout, in running order', [ &
+      pstr('type', 'segment kind', required=.true., allowed='straight|clothoid|curve'), &
+      preal('length', 'm', 'length along the horizontal projection', required=.true., min=zero, &
+            min_open=.true.), &
+      preal('radius', 'm', 'curve radius; for a clothoid the radius at its end', min=zero, &
+            min_open=.true., cond='required for curve; clothoid without it ends straight'), &
+      pstr('side', 'side towards which the track curves', allowed='left|right', &
+           cond='required with radius'), &
+      preal('cant', 'm', 'superelevation of the outer rail at the segment end', default=zero, &
+            min=-0.2_wp, max=0.3_wp, &
+            cond='for a curve the default is the previous segment''s end cant'), &
+      pstr('cant_ramp', 'shape of the cant transition along the segment', default='linear', &
+           allowed='linear|cosine'), &
+      preal('gradient', '-', 'longitudinal gradient at the segment end', default=zero, &
+            min=-0.1_wp, max=0.1_wp, previous=.true., &
+            cond='default = previous segment''s end gradient (first: 0)')])
+
+    call add_group(s, 'body', .true., 'a rigid body with 6 degrees of freedom in a track frame', [ &
+      unique_name('unique body name'), &
+      preal('mass', 'kg', 'mass', required=.true., min=zero, min_open=.true.), &
+      preal('ixx', 'kg m2', 'roll moment of inertia about the CG', required=.true., min=zero, &
+            min_open=.true.), &
+      preal('iyy', 'kg m2', 'pitch moment of inertia about the CG', required=.true., min=zero, &
+            min_open=.true.), &
+      preal('izz', 'kg m2', 'yaw moment of inertia about the CG', required=.true., min=zero, &
+            min_open=.true.), &
+      preal('ixy', 'kg m2', 'product of inertia', default=zero), &
+      preal('ixz', 'kg m2', 'product of inertia', default=zero), &
+      preal('iyz', 'kg m2', 'product of inertia', default=zero), &
+      vec3('position', 'm', 'initial CG position x y z in its track frame'), &
+      vec3('orientation', 'rad', 'initial yaw roll pitch'), &
+      vec3('velocity', 'm/s', 'initial CG velocity relative to its track frame'), &
+      vec3('angular_rate', 'rad/s', 'initial yaw roll pitch rates'), &
+      ref_param(pstr('frame', 'track frame: own, or the name of a body whose frame it shares', &
+                     default='own'), 'body', 'own'), &
+      preal('frame_offset', 'm', 'own frame at sigma_vehicle + frame_offset', default=zero), &
+      pstrlist('frozen', 'coordinates held at their initial value', 'x|y|z|yaw|roll|pitch')])
+
+    call add_group(s, 'wheelset', .true., 'wheel-rail contact of a wheelset body', [ &
+      unique_name('unique wheelset name'), &
+      ref_param(pstr('body', 'the body that is the wheelset', required=.true.), 'body'), &
+      pstr('contact', 'contact model', default='profile', allowed='knife_edge|profile'), &
+      path_param(pstr('wheel_profile', 'wheel profile file or analytic keyword', &
+                      cond='required for profile contact'), .true., 's1002|60e1|54e1'), &
+      path_param(pstr('rail_profile', 'rail profile file or analytic keyword', &
+                      cond='required for profile contact'), .true., 's1002|60e1|54e1'), &
+      preal('nominal_radius', 'm', 'nominal rolling radius', default=0.46_wp, min=0.2_wp, &
+            max=0.7_wp, min_open=.true., max_open=.true.), &
+      preal('contact_distance', 'm', 'distance between nominal contact points (knife edge)', &
+            default=1.5_wp, min=zero, min_open=.true.), &
+      preal('conicity', '-', 'cone slope of the knife-edge wheels', default=0.05_wp, min=zero, &
+            max=1.0_wp), &
+      preal('back_to_back', 'm', 'distance between the wheel inner faces', default=1.360_wp, &
+            min=zero, min_open=.true.), &
+      preal('flange_back', 'm', 'lateral position of the flange back in the profile frame', &
+            default=-0.070_wp), &
+      pstr('creep_law', 'tangential contact law', default='fastsim', &
+           allowed='linear|fastsim|polach'), &
+      pstr('creep_saturation', 'saturation of the linear law', default='none', &
+           allowed='none|shen_hedrick_elkins'), &
+      preal('friction', '-', 'wheel-rail friction coefficient', default=0.3_wp, min=zero, &
+            max=1.0_wp), &
+      preal('shear_modulus', 'Pa', 'combined shear modulus', default=82.0e9_wp, min=zero, &
+            min_open=.true.), &
+      preal('poisson', '-', 'Poisson ratio', default=0.28_wp, min=zero, max=0.5_wp, &
+            max_open=.true.), &
+      pint('fastsim_grid', '-', 'FASTSIM strips and elements per strip', 10, min=2, max=200), &
+      pstr('fastsim_bound', 'FASTSIM traction bound', default='parabolic', &
+           allowed='parabolic|elliptic'), &
+      preal('polach_ka', '-', 'Polach reduction in the adhesion area', default=1.0_wp, min=zero, &
+            max=1.0_wp, min_open=.true.), &
+      preal('polach_ks', '-', 'Polach reduction in the slip area', default=1.0_wp, min=zero, &
+            max=1.0_wp, min_open=.true.), &
+      preal('creep_velocity_min', 'm/s', 'regularisation of the creepage reference velocity', &
+            default=0.05_wp, min=zero, min_open=.true.), &
+      preal('contact_damping', 'N s/m', 'normal contact damping', default=zero, min=zero), &
+      pstr('hertz_method', 'Hertz ellipse coefficients', default='elliptic', &
+           allowed='elliptic|table')])
+
+    call add_group(s, 'element', .true., 'a suspension force element between two bodies', [ &
+      unique_name('unique element name'), &
+      pstr('type', 'element kind', required=.true., &
+           allowed='spring_damper|torsion|table|series_spring_damper'), &
+      ref_param(pstr('body1', 'body the element acts from, or ground (the track frame)', &
+                     default='ground'), 'body', 'ground'), &
+      ref_param(pstr('body2', 'body the element acts on', required=.true.), 'body'), &
+      vec3('point1', 'm', 'attachment in body1''s frame (track frame for ground)'), &
+      vec3('point2', 'm', 'attachment in body2''s frame'), &
+      vec3('axes', 'rad', 'yaw roll pitch of the element axes relative to body1 / track frame'), &
+      vec3('stiffness', 'N/m', 'stiffness along the element axes'), &
+      vec3('damping', 'N s/m', 'viscous damping along the element axes'), &
+      vec3('preload', 'N', 'force at zero deflection along the element axes'), &
+      vec3('actuator_force', 'N', 'constant actuator force along the element axes'), &
+      vec3('torsion_stiffness', 'N m/rad', 'rotational stiffness about the element axes'), &
+      vec3('torsion_damping', 'N m s/rad', 'rotational damping about the element axes'), &
+      pstr('table_axis', 'axis of the force-deflection table', allowed='x|y|z', &
+           cond='required for table'), &
+      parray('table_deflection', 'm', 'deflections of the table', 0, increasing=.true., &
+             cond='required for table; strictly increasing'), &
+      parray('table_force', 'N', 'forces of the table', 0, &
+             cond='required for table; same length as table_deflection'), &
+      preal('clearance', 'm', 'free play before the element engages', default=zero, min=zero), &
+      preal('series_stiffness', 'N/m', 'stiffness in series with the damper', min=zero, &
+            min_open=.true., cond='required for series_spring_damper')])
+
+    call add_group(s, 'external_force', .true., 'a prescribed force and moment on a body', [ &
+      ref_param(pstr('body', 'body loaded', required=.true.), 'body'), &
+      pstr('frame', 'frame of the components', default='fixed', allowed='fixed|track|body'), &
+      vec3('force', 'N', 'force at the CG'), &
+      vec3('moment', 'N m', 'moment'), &
+      preal('t_start', 's', 'start of the load', default=zero), &
+      preal('t_end', 's', 'end of the load', default=huge(1.0_wp), cond='> t_start')])
+
+    call add_group(s, 'include', .true., 'insert another deck here (its paths relative to it)', [ &
+      path_param(pstr('file', 'deck to insert', required=.true.), .true.)])
+  end function build_deck_schema
+
+  ! ---------------------------------------------------------------------
+  ! Look-ups.
+  ! ---------------------------------------------------------------------
+  pure integer function find_group(s, name)
+    type(deck_schema_t), intent(in) :: s
+    character(len=*), intent(in) :: name
+    integer :: i
+    find_group = 0
+    if (.not. allocated(s%groups)) return
+    do i = 1, size(s%groups)
+      if (s%groups(i)%name == to_lower(name)) then
+        find_group = i; return
+      end if
+    end do
+  end function find_group
+
+  pure integer function find_param(g, name)
+    type(group_schema_t), intent(in) :: g
+    character(len=*), intent(in) :: name
+    integer :: i
+    find_param = 0
+    do i = 1, size(g%params)
+      if (g%params(i)%name == to_lower(name)) then
+        find_param = i; return
+      end if
+    end do
+  end function find_param
+
+  !> The closest candidate within a small edit distance, or '' (for "did you mean").
+  function suggest_name(word, candidates) result(best)
+    character(len=*), intent(in) :: word
+    type(deck_string_t), intent(in) :: candidates(:)
+    character(len=:), allocatable :: best
+    integer :: i, d, dbest
+    best = ''
+    dbest = max(2, len(word) / 3) + 1
+    do i = 1, size(candidates)
+      d = edit_distance(word, candidates(i)%s)
+      if (d < dbest) then
+        dbest = d; best = candidates(i)%s
+      end if
+    end do
+  end function suggest_name
+
+  ! ---------------------------------------------------------------------
+  ! Text for messages and the reference tables.
+  ! ---------------------------------------------------------------------
+  function type_text(p) result(t)
+    type(param_schema_t), intent(in) :: p
+    character(len=:), allocatable :: t
+    select case (p%ptype)
+    case (PT_REAL); t = 'real'
+    case (PT_INTEGER); t = 'integer'
+    case (PT_LOGICAL); t = 'logical'
+    case (PT_STRING)
+      t = 'string'
+      if (p%is_path) t = 'path'
+      if (len(p%ref_group) > 0) t = 'name of a &' // p%ref_group
+    case (PT_REAL_ARRAY)
+      if (p%size > 0) then
+        t = 'real(' // int_to_str(p%size) // ')'
+      else
+        t = 'real list'
+      end if
+    case (PT_STRING_LIST); t = 'string list'
+    case default; t = '?'
+    end select
+  end function type_text
+
+  function default_text(p) result(t)
+    type(param_schema_t), intent(in) :: p
+    character(len=:), allocatable :: t
+    integer :: i
+    select case (p%default_kind)
+    case (DEF_REQUIRED); t = 'required'
+    case (DEF_OPTIONAL); t = 'none'
+    case (DEF_DECK_STEM); t = 'deck stem + ' // p%default_strings(1)%s
+    case default
+      select case (p%ptype)
+      case (PT_REAL, PT_REAL_ARRAY)
+        t = ''
+        do i = 1, size(p%default_reals)
+          if (i > 1) t = t // ' '
+          t = t // real_to_str(p%default_reals(i))
+        end do
+        if (size(p%default_reals) == 0) t = 'empty'
+      case (PT_INTEGER); t = int_to_str(p%default_integer)
+      case (PT_LOGICAL); t = merge('.true. ', '.false.', p%default_logical)
+        t = trim(t)
+      case (PT_STRING); t = "'" // p%default_strings(1)%s // "'"
+      case (PT_STRING_LIST)
+        t = 'empty'
+      end select
+      if (p%default_kind == DEF_PREVIOUS) t = 'previous, first ' // t
+    end select
+  end function default_text
+
+  !> "[0, 100]", "(0, 1)", "> 0", ">= 0", "one of: bdf, adams" or "".
+  function range_text(p) result(t)
+    type(param_schema_t), intent(in) :: p
+    character(len=:), allocatable :: t
+    integer :: i
+    t = ''
+    if (size(p%allowed) > 0) then
+      t = 'one of: '
+      do i = 1, size(p%allowed)
+        if (i > 1) t = t // ', '
+        t = t // p%allowed(i)%s
+      end do
+      if (len(p%ref_group) > 0 .or. size(p%ref_keywords) > 0) return
+    end if
+    if (size(p%ref_keywords) > 0) then
+      t = 'a &' // p%ref_group // ' name or: '
+      do i = 1, size(p%ref_keywords)
+        if (i > 1) t = t // ', '
+        t = t // p%ref_keywords(i)%s
+      end do
+      return
+    end if
+    if (size(p%path_keywords) > 0) then
+      t = 'a file or one of: '
+      do i = 1, size(p%path_keywords)
+        if (i > 1) t = t // ', '
+        t = t // p%path_keywords(i)%s
+      end do
+      return
+    end if
+    if (p%has_min .and. p%has_max) then
+      t = merge('(', '[', p%min_open) // real_to_str(p%min) // ', ' // real_to_str(p%max) // &
+          merge(')', ']', p%max_open)
+    else if (p%has_min) then
+      t = merge('> ', '>=', p%min_open)
+      t = trim(t) // ' ' // real_to_str(p%min)
+    else if (p%has_max) then
+      t = merge('< ', '<=', p%max_open)
+      t = trim(t) // ' ' // real_to_str(p%max)
+    end if
+  end function range_text
+
+  !> The reference tables of docs/input_reference.md, one per group.
+  subroutine write_schema_markdown(unit)
+    integer, intent(in) :: unit
+    type(deck_schema_t) :: s
+    integer :: i, j
+    character(len=:), allocatable :: notes, flags
+    s = build_deck_schema()
+    do i = 1, size(s%groups)
+      associate (g => s%groups(i))
+        write (unit, '(a)') '### &' // g%name
+        write (unit, '(a)') ''
+        write (unit, '(a)') g%meaning // trim(merge(' (repeatable)  ', ' (at most once)', g%repeatable)) &
+                            // '.'
+        write (unit, '(a)') ''
+        write (unit, '(a)') '| parameter | type | unit | default | valid | meaning |'
+        write (unit, '(a)') '|---|---|---|---|---|---|'
+        do j = 1, size(g%params)
+          associate (p => g%params(j))
+            notes = p%meaning
+            flags = ''
+            if (p%unique) flags = flags // '; unique'
+            if (p%must_exist) flags = flags // '; the file must exist'
+            if (p%increasing) flags = flags // '; increasing'
+            if (len(p%condition) > 0) notes = notes // ' (' // p%condition // ')'
+            if (len(flags) > 0) notes = notes // ' [' // flags(3:) // ']'
+            write (unit, '(a)') '| `' // p%name // '` | ' // type_text(p) // ' | ' // p%unit // &
+              ' | ' // default_text(p) // ' | ' // range_text(p) // ' | ' // notes // ' |'
+          end associate
+        end do
+        write (unit, '(a)') ''
+      end associate
+    end do
+  end subroutine write_schema_markdown
+end module rd_deck_schema

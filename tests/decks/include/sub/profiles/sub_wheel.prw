@@ -1,0 +1,1 @@
+# placeholder profile, found relative to include/sub/

@@ -1,0 +1,1 @@
+# placeholder wheel profile for the deck reader tests (content not read)
