@@ -1,0 +1,529 @@
+!> The multibody system: rigid bodies in track-following frames, force elements and force
+!> providers, as one ODE y' = f(t, y) for the integrators (thesis chapter 4, eqs. 4.27-4.62;
+!> the equations as implemented, with the thesis' typos corrected, are in docs/theory.md).
+!>
+!> State layout (documented for the integrators, the outputs and the C API):
+!>   y = [ q_f(1:nfree) ; qdot_f(1:nfree) ; x_el(1:nel_states) ]
+!> q_f are the free coordinates of all bodies, body after body, each body in the order
+!> (x, y, z, psi, phi, theta) with its frozen coordinates skipped; for a wheelset the
+!> pitch slot holds the spin deviation beta (theta = s(t)/r0 + beta) and its rate dbeta/dt.
+!> x_el are the elements' internal states, element after element.
+!>
+!> Frozen coordinates are not in the state: they keep q0 and zero rate (a wheelset's frozen
+!> spin keeps beta = beta0, i.e. rolls at V/r0). Each body's generalized mass matrix is
+!> block-diagonal (m I, H^T J H) because the body frame sits at the CG, so the reduced
+!> system is solved body by body with at most 3x3 eliminations and no allocation.
+module rd_multibody
+  use rd_kinds, only: wp, standard_gravity
+  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_INTERNAL
+  use rd_rotation, only: cross
+  use rd_ode_system, only: ode_system_t
+  use rd_track_point, only: track_point_t, track_geometry_t
+  use rd_speed_law, only: speed_law_t
+  use rd_body_spec, only: body_spec_t, validate_body_spec, DOF_PITCH
+  use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics, ground_kinematics, &
+                                angle_rate_matrix, angle_rate_matrix_dot
+  use rd_force_provider, only: force_provider_t, body_load_t
+  use rd_force_element, only: force_element_t, element_result_t
+  use rd_external_loads, only: override_loads_t
+  implicit none
+  private
+  public :: multibody_t, BODY_OUT_RELATIVE, BODY_OUT_FIXED, ELEMENT_OUT
+
+  integer, parameter :: BODY_OUT_RELATIVE = 18  !< q(6), qdot(6), qddot(6)
+  !> position(3), Z-X-Y angles of A B (psi, phi, theta)(3), velocity(3), angular velocity
+  !> fixed(3) and body(3) components, acceleration(3)
+  integer, parameter :: BODY_OUT_FIXED = 18
+  integer, parameter :: ELEMENT_OUT = 9         !< deflection(3), force element axes(3), force fixed(3)
+
+  type :: element_holder_t
+    class(force_element_t), allocatable :: e
+  end type element_holder_t
+
+  type :: provider_ptr_t
+    class(force_provider_t), pointer :: p => null()
+  end type provider_ptr_t
+
+  type, extends(ode_system_t) :: multibody_t
+    type(body_spec_t), allocatable :: bodies(:)
+    real(wp), allocatable :: frame_offset(:)   !< sigma_k = sigma0 + offset_k + s(t) [m]
+    real(wp) :: sigma0 = 0                      !< vehicle's reference arc length at t = 0 [m]
+    class(track_geometry_t), pointer :: track => null()
+    type(speed_law_t) :: speed
+    real(wp) :: gravity = standard_gravity      !< along -Z of the fixed frame [m/s^2]
+    type(element_holder_t), allocatable :: elements(:)
+    type(provider_ptr_t), allocatable :: providers(:)
+    type(override_loads_t) :: override          !< loads set at run time (C API)
+    integer :: nfree = 0
+    integer :: nel_states = 0
+    integer, allocatable :: free_index(:, :)    !< (6, nbodies): slot in q_f, 0 if frozen
+    integer, allocatable :: el_state_start(:)   !< first slot of each element's states in x_el
+    ! scratch and last evaluation (filled by rhs)
+    type(track_point_t), allocatable :: frames(:)
+    type(body_kinematics_t), allocatable :: kin(:)
+    type(body_load_t), allocatable :: loads(:)
+    type(element_result_t), allocatable :: el_res(:)
+  contains
+    procedure :: init
+    procedure :: add_element
+    procedure :: add_provider
+    procedure :: state_size
+    procedure :: body_count
+    procedure :: element_count
+    procedure :: initial_state
+    procedure :: rhs
+    procedure :: evaluate_kinematics
+    procedure :: free_slot
+    procedure :: body_output_relative
+    procedure :: body_output_fixed
+    procedure :: element_output
+    procedure :: set_override_load
+  end type multibody_t
+
+contains
+
+  !> Build the system from body specs, the track frames' offsets, a track and a speed law.
+  subroutine init(self, bodies, frame_offsets, track, speed, error, sigma0, gravity)
+    class(multibody_t), intent(inout) :: self
+    type(body_spec_t), intent(in) :: bodies(:)
+    real(wp), intent(in) :: frame_offsets(:)
+    class(track_geometry_t), pointer, intent(in) :: track
+    type(speed_law_t), intent(in) :: speed
+    type(error_t), allocatable, intent(out) :: error
+    real(wp), intent(in), optional :: sigma0, gravity
+    integer :: i, j, n
+    if (size(bodies) < 1) then
+      call make_error(error, RD_ERR_INPUT, 'multibody: at least one body is needed'); return
+    end if
+    if (size(frame_offsets) < 1) then
+      call make_error(error, RD_ERR_INPUT, 'multibody: at least one track frame is needed'); return
+    end if
+    if (.not. associated(track)) then
+      call make_error(error, RD_ERR_INPUT, 'multibody: no track'); return
+    end if
+    if (.not. allocated(speed%t)) then
+      call make_error(error, RD_ERR_INPUT, 'multibody: speed law not defined'); return
+    end if
+    do i = 1, size(bodies)
+      call validate_body_spec(bodies(i), size(frame_offsets), error)
+      if (allocated(error)) then
+        call error_context(error, 'multibody'); return
+      end if
+    end do
+    self%bodies = bodies
+    self%frame_offset = frame_offsets
+    self%track => track
+    self%speed = speed
+    if (present(sigma0)) self%sigma0 = sigma0
+    if (present(gravity)) then
+      if (.not. (gravity >= 0)) then
+        call make_error(error, RD_ERR_INPUT, 'multibody: gravity must be >= 0 m/s^2'); return
+      end if
+      self%gravity = gravity
+    end if
+    allocate (self%free_index(6, size(bodies)))
+    n = 0
+    do i = 1, size(bodies)
+      do j = 1, 6
+        if (bodies(i)%frozen(j)) then
+          self%free_index(j, i) = 0
+        else
+          n = n + 1
+          self%free_index(j, i) = n
+        end if
+      end do
+    end do
+    self%nfree = n
+    self%nel_states = 0
+    allocate (self%elements(0), self%providers(0), self%el_state_start(0), self%el_res(0))
+    allocate (self%frames(size(frame_offsets)), self%kin(size(bodies)), self%loads(size(bodies)))
+    call self%override%init(size(bodies))
+  end subroutine init
+
+  !> Add a force element (copied). Its internal states are appended to the state vector.
+  subroutine add_element(self, element, error)
+    class(multibody_t), intent(inout) :: self
+    class(force_element_t), intent(in) :: element
+    type(error_t), allocatable, intent(out) :: error
+    type(element_holder_t), allocatable :: tmp(:)
+    type(element_result_t), allocatable :: res(:)
+    integer :: n
+    if (.not. allocated(self%bodies)) then
+      call make_error(error, RD_ERR_INPUT, 'multibody: add_element before init'); return
+    end if
+    call element%check_bodies(size(self%bodies), error)
+    if (allocated(error)) return
+    n = size(self%elements)
+    allocate (tmp(n + 1))
+    tmp(1:n) = self%elements
+    allocate (tmp(n + 1)%e, source=element)
+    call move_alloc(tmp, self%elements)
+    self%el_state_start = [self%el_state_start, self%nel_states + 1]
+    self%nel_states = self%nel_states + element%state_count()
+    allocate (res(n + 1))
+    call move_alloc(res, self%el_res)
+  end subroutine add_element
+
+  !> Register a force provider. The caller owns it; it must outlive the system.
+  subroutine add_provider(self, provider)
+    class(multibody_t), intent(inout) :: self
+    class(force_provider_t), pointer, intent(in) :: provider
+    type(provider_ptr_t), allocatable :: tmp(:)
+    integer :: n
+    n = size(self%providers)
+    allocate (tmp(n + 1))
+    tmp(1:n) = self%providers
+    tmp(n + 1)%p => provider
+    call move_alloc(tmp, self%providers)
+  end subroutine add_provider
+
+  pure function state_size(self) result(n)
+    class(multibody_t), intent(in) :: self
+    integer :: n
+    n = 2 * self%nfree + self%nel_states
+  end function state_size
+
+  pure integer function body_count(self)
+    class(multibody_t), intent(in) :: self
+    body_count = 0
+    if (allocated(self%bodies)) body_count = size(self%bodies)
+  end function body_count
+
+  pure integer function element_count(self)
+    class(multibody_t), intent(in) :: self
+    element_count = 0
+    if (allocated(self%elements)) element_count = size(self%elements)
+  end function element_count
+
+  !> Slot of coordinate `dof` of body `ib` in q_f (0 if frozen); its rate is at nfree + slot.
+  pure integer function free_slot(self, ib, dof)
+    class(multibody_t), intent(in) :: self
+    integer, intent(in) :: ib, dof
+    free_slot = self%free_index(dof, ib)
+  end function free_slot
+
+  !> The initial state from the bodies' q0/qdot0 and the elements' initial states.
+  subroutine initial_state(self, y, error)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(out) :: y(:)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: i, j, k, e, n
+    type(body_kinematics_t) :: kg
+    if (size(y) /= self%state_size()) then
+      call make_error(error, RD_ERR_INPUT, 'multibody%initial_state: state vector has the wrong size'); return
+    end if
+    y = 0
+    do i = 1, size(self%bodies)
+      do j = 1, 6
+        k = self%free_index(j, i)
+        if (k > 0) then
+          y(k) = self%bodies(i)%q0(j)
+          y(self%nfree + k) = self%bodies(i)%qdot0(j)
+        end if
+      end do
+    end do
+    call self%evaluate_kinematics(0.0_wp, y)
+    do e = 1, size(self%elements)
+      associate (el => self%elements(e)%e)
+        n = el%state_count()
+        if (n == 0) cycle
+        k = 2 * self%nfree + self%el_state_start(e)
+        if (el%body1 == 0) then
+          kg = ground_kinematics(self%kin(el%body2))
+          call el%initial_states(kg, self%kin(el%body2), y(k:k + n - 1))
+        else
+          call el%initial_states(self%kin(el%body1), self%kin(el%body2), y(k:k + n - 1))
+        end if
+      end associate
+    end do
+  end subroutine initial_state
+
+  !> Track frames and body kinematics at time t for state y (stored in self%kin).
+  subroutine evaluate_kinematics(self, t, y)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    real(wp) :: v, vdot, s, q(6), qdot(6)
+    integer :: i, j, k
+    v = self%speed%speed(t)
+    vdot = self%speed%acceleration(t)
+    s = self%speed%distance(t)
+    do k = 1, size(self%frames)
+      self%frames(k) = self%track%evaluate(self%sigma0 + self%frame_offset(k) + s)
+    end do
+    do i = 1, size(self%bodies)
+      associate (b => self%bodies(i))
+        q = b%q0
+        qdot = 0
+        do j = 1, 6
+          k = self%free_index(j, i)
+          if (k > 0) then
+            q(j) = y(k)
+            qdot(j) = y(self%nfree + k)
+          end if
+        end do
+        if (b%is_wheelset) then
+          ! theta = s/r0 + beta, dtheta/dt = V/r0 + dbeta/dt (docs/theory.md, spin deviation)
+          q(DOF_PITCH) = s / b%r0 + q(DOF_PITCH)
+          qdot(DOF_PITCH) = v / b%r0 + qdot(DOF_PITCH)
+        end if
+        call compute_body_kinematics(self%kin(i), self%frames(b%frame), v, vdot, q, qdot, b%is_wheelset)
+      end associate
+    end do
+  end subroutine evaluate_kinematics
+
+  !> y' = f(t, y): kinematics, loads (gravity, elements, providers, override), then the
+  !> equations of motion body by body (docs/theory.md eqs. T1-T3, R1-R4).
+  subroutine rhs(self, t, y, ydot, error, recoverable)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    real(wp), intent(out) :: ydot(:)
+    type(error_t), allocatable, intent(out) :: error
+    logical, intent(out) :: recoverable
+    integer :: i, e, k, n, b1, b2
+    type(body_kinematics_t) :: kg
+    character(len=64) :: buf
+    recoverable = .false.
+    if (size(y) /= self%state_size() .or. size(ydot) /= size(y)) then
+      call make_error(error, RD_ERR_INTERNAL, 'multibody%rhs: state vector has the wrong size'); return
+    end if
+    call self%evaluate_kinematics(t, y)
+    ! gravity (fixed frame, -Z)
+    do i = 1, size(self%bodies)
+      self%loads(i)%force = [0.0_wp, 0.0_wp, -self%bodies(i)%mass * self%gravity]
+      self%loads(i)%moment = 0
+      self%loads(i)%moment_attach = 0
+    end do
+    ! force elements: force on body 2 at point2, reaction on body 1 at reaction_point
+    do e = 1, size(self%elements)
+      associate (el => self%elements(e)%e, res => self%el_res(e))
+        b1 = el%body1; b2 = el%body2
+        n = el%state_count()
+        k = 2 * self%nfree + self%el_state_start(e)
+        if (b1 == 0) then
+          kg = ground_kinematics(self%kin(b2))
+          call el%evaluate(t, kg, self%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
+        else
+          call el%evaluate(t, self%kin(b1), self%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
+        end if
+        self%loads(b2)%force = self%loads(b2)%force + res%force
+        self%loads(b2)%moment_attach = self%loads(b2)%moment_attach &
+                                       + cross(res%point2 - self%kin(b2)%r, res%force) + res%moment
+        if (b1 > 0) then
+          self%loads(b1)%force = self%loads(b1)%force - res%force
+          self%loads(b1)%moment_attach = self%loads(b1)%moment_attach &
+                                         - cross(res%reaction_point - self%kin(b1)%r, res%force) - res%moment
+        end if
+      end associate
+    end do
+    do i = 1, size(self%providers)
+      call self%providers(i)%p%add_forces(t, self%kin, self%loads, error)
+      if (allocated(error)) then
+        call error_context(error, 'multibody%rhs')
+        return
+      end if
+    end do
+    call self%override%add_forces(t, self%kin, self%loads, error)
+    if (allocated(error)) return
+    do i = 1, size(self%bodies)
+      call body_equations(self, i, ydot)
+    end do
+    if (any(ydot /= ydot) .or. any(abs(ydot) > huge(1.0_wp))) then
+      do i = 1, size(self%bodies)
+        if (abs(cos(self%kin(i)%q(5))) < 1.0e-6_wp) then
+          call make_error(error, RD_ERR_RUNTIME, 'multibody%rhs: body "' // trim(name_of(self, i)) // &
+                          '" reached 90 deg roll (singular Z-X-Y angles)')
+          return
+        end if
+      end do
+      write (buf, '(es12.5)') t
+      call make_error(error, RD_ERR_RUNTIME, 'multibody%rhs: NaN or Inf in the state derivative at t = ' // trim(buf) // ' s')
+    end if
+  end subroutine rhs
+
+  function name_of(self, i) result(name)
+    class(multibody_t), intent(in) :: self
+    integer, intent(in) :: i
+    character(len=:), allocatable :: name
+    if (allocated(self%bodies(i)%name)) then
+      name = self%bodies(i)%name
+    else
+      name = '?'
+    end if
+  end function name_of
+
+  !> Equations of motion of body i (docs/theory.md):
+  !>  T: m (w'' + A^T p'' + 2 Om x w' + Om' x w + Om x (Om x w)) = A^T F     (eq. 4.61)
+  !>  R: (H^T J H) a'' = H^T [M_b - om x J om - J (B^T Om' - om_rel x B^T Om + H' a')]
+  !>                     + H_att^T M_att,b                                   (eq. 4.62 corrected)
+  !> solved for the free coordinates with the frozen ones' accelerations prescribed.
+  subroutine body_equations(self, i, ydot)
+    class(multibody_t), intent(inout) :: self
+    integer, intent(in) :: i
+    real(wp), intent(inout) :: ydot(:)
+    real(wp) :: a(3, 3), om(3), al(3), a0(3), w(3), wd(3), wdd(3), f(3)
+    real(wp) :: h(3, 3), hd(3, 3), hatt(3, 3), jm(3, 3), mgen(3, 3), g(3), mb(3), mab(3)
+    real(wp) :: omb(3), omrel(3), btom(3), angd(3), angdd(3), acc_pres(3)
+    logical :: free_ang(3)
+    integer :: j, k
+    associate (b => self%bodies(i), kin => self%kin(i), ld => self%loads(i))
+      a = kin%track%a
+      om = kin%omega_frame
+      al = kin%alpha_frame
+      ! origin acceleration p'' = V^2 d2p/dsigma2 + dV/dt dp/dsigma, in track components
+      a0 = matmul(transpose(a), kin%speed**2 * kin%track%d2r + kin%accel * kin%track%dr)
+      w = kin%q(1:3)
+      wd = kin%qdot(1:3)
+      f = matmul(transpose(a), ld%force)
+      ! eq. 4.61: relative acceleration in track components (frozen translations: 0)
+      wdd = f / b%mass - a0 - 2 * cross(om, wd) - cross(al, w) - cross(om, cross(om, w))
+      do j = 1, 3
+        if (b%frozen(j)) wdd(j) = 0
+      end do
+      kin%acc = matmul(a, a0 + wdd + 2 * cross(om, wd) + cross(al, w) + cross(om, cross(om, w)))
+      ! rotation: Euler's equation in body components projected on the angles with H^T
+      angd = kin%qdot(4:6)
+      h = angle_rate_matrix(kin%q(5), kin%q(6))
+      hd = angle_rate_matrix_dot(kin%q(5), kin%q(6), angd(2), angd(3))
+      jm = b%inertia
+      omb = kin%omega_body
+      omrel = matmul(h, angd)
+      btom = matmul(transpose(kin%b), om)
+      mb = matmul(transpose(kin%rot), ld%moment)
+      mab = matmul(transpose(kin%rot), ld%moment_attach)
+      g = mb - cross(omb, matmul(jm, omb)) &
+          - matmul(jm, matmul(transpose(kin%b), al) - cross(omrel, btom) + matmul(hd, angd))
+      g = matmul(transpose(h), g)
+      hatt = h
+      if (b%is_wheelset) hatt(:, 3) = 0   ! axle-box loads do no work on the spin
+      g = g + matmul(transpose(hatt), mab)
+      mgen = matmul(transpose(h), matmul(jm, h))
+      free_ang = .not. b%frozen(4:6)
+      ! prescribed accelerations of frozen angles: 0; a wheelset's frozen spin rolls: dV/dt / r0
+      acc_pres = 0
+      if (b%is_wheelset) acc_pres(3) = kin%accel / b%r0
+      call solve_subset(mgen, g, free_ang, acc_pres, angdd)
+      kin%qddot(1:3) = wdd
+      kin%qddot(4:6) = angdd
+      do j = 1, 6
+        k = self%free_index(j, i)
+        if (k == 0) cycle
+        if (j == DOF_PITCH .and. b%is_wheelset) then
+          ydot(k) = kin%qdot(j) - kin%speed / b%r0        ! dbeta/dt
+          ydot(self%nfree + k) = kin%qddot(j) - kin%accel / b%r0
+        else
+          ydot(k) = kin%qdot(j)
+          ydot(self%nfree + k) = kin%qddot(j)
+        end if
+      end do
+    end associate
+  end subroutine body_equations
+
+  !> Solve M x = g for the entries with free(i), the others prescribed (x(i) = xp(i)):
+  !> M_ff x_f = g_f - M_fc x_c. At most 3x3, Gaussian elimination with partial pivoting.
+  pure subroutine solve_subset(m, g, free, xp, x)
+    real(wp), intent(in) :: m(3, 3), g(3), xp(3)
+    logical, intent(in) :: free(3)
+    real(wp), intent(out) :: x(3)
+    real(wp) :: a(3, 3), r(3), tmp(3), piv, fac, t
+    integer :: idx(3), n, i, j, k, p
+    x = xp
+    n = 0
+    do i = 1, 3
+      if (free(i)) then
+        n = n + 1
+        idx(n) = i
+      end if
+    end do
+    if (n == 0) return
+    do i = 1, n
+      r(i) = g(idx(i))
+      do j = 1, 3
+        if (.not. free(j)) r(i) = r(i) - m(idx(i), j) * xp(j)
+      end do
+      do j = 1, n
+        a(i, j) = m(idx(i), idx(j))
+      end do
+    end do
+    do k = 1, n
+      p = k
+      piv = abs(a(k, k))
+      do i = k + 1, n
+        if (abs(a(i, k)) > piv) then
+          p = i; piv = abs(a(i, k))
+        end if
+      end do
+      if (p /= k) then
+        tmp(1:n) = a(k, 1:n); a(k, 1:n) = a(p, 1:n); a(p, 1:n) = tmp(1:n)
+        t = r(k); r(k) = r(p); r(p) = t
+      end if
+      do i = k + 1, n
+        fac = a(i, k) / a(k, k)
+        a(i, k:n) = a(i, k:n) - fac * a(k, k:n)
+        r(i) = r(i) - fac * r(k)
+      end do
+    end do
+    do i = n, 1, -1
+      t = r(i)
+      do j = i + 1, n
+        t = t - a(i, j) * x(idx(j))
+      end do
+      x(idx(i)) = t / a(i, i)
+    end do
+  end subroutine solve_subset
+
+  !> Body i relative to its track frame, from the last RHS evaluation:
+  !> out = [q(6), qdot(6), qddot(6)] (wheelset pitch: the full spin angle and rate).
+  pure subroutine body_output_relative(self, i, out)
+    class(multibody_t), intent(in) :: self
+    integer, intent(in) :: i
+    real(wp), intent(out) :: out(BODY_OUT_RELATIVE)
+    out(1:6) = self%kin(i)%q
+    out(7:12) = self%kin(i)%qdot
+    out(13:18) = self%kin(i)%qddot
+  end subroutine body_output_relative
+
+  !> Body i in the fixed frame, from the last RHS evaluation: out = [position(3),
+  !> Z-X-Y angles (psi, phi, theta) of A B (3), velocity(3), angular velocity fixed(3),
+  !> angular velocity body(3), acceleration(3)].
+  pure subroutine body_output_fixed(self, i, out)
+    class(multibody_t), intent(in) :: self
+    integer, intent(in) :: i
+    real(wp), intent(out) :: out(BODY_OUT_FIXED)
+    real(wp) :: r(3, 3)
+    r = self%kin(i)%rot
+    out(1:3) = self%kin(i)%r
+    ! R = Rz(psi) Rx(phi) Ry(theta): R32 = sin(phi), R12 = -sin(psi)cos(phi),
+    ! R22 = cos(psi)cos(phi), R31 = -cos(phi)sin(theta), R33 = cos(phi)cos(theta)
+    out(4) = atan2(-r(1, 2), r(2, 2))
+    out(5) = asin(max(-1.0_wp, min(1.0_wp, r(3, 2))))
+    out(6) = atan2(-r(3, 1), r(3, 3))
+    out(7:9) = self%kin(i)%v
+    out(10:12) = self%kin(i)%omega
+    out(13:15) = self%kin(i)%omega_body
+    out(16:18) = self%kin(i)%acc
+  end subroutine body_output_fixed
+
+  !> Element e from the last RHS evaluation: out = [deflection(3), force on body 2 in
+  !> element axes(3), force on body 2 in the fixed frame(3)].
+  pure subroutine element_output(self, e, out)
+    class(multibody_t), intent(in) :: self
+    integer, intent(in) :: e
+    real(wp), intent(out) :: out(ELEMENT_OUT)
+    out(1:3) = self%el_res(e)%deflection
+    out(4:6) = self%el_res(e)%force_local
+    out(7:9) = self%el_res(e)%force
+  end subroutine element_output
+
+  !> Run-time load on body ib (force at the CG and moment, fixed frame), replacing the
+  !> previous one (C API input).
+  subroutine set_override_load(self, ib, force, moment, error)
+    class(multibody_t), intent(inout) :: self
+    integer, intent(in) :: ib
+    real(wp), intent(in) :: force(3), moment(3)
+    type(error_t), allocatable, intent(out) :: error
+    call self%override%set(ib, force, moment, error)
+    if (allocated(error)) call error_context(error, 'multibody%set_override_load')
+  end subroutine set_override_load
+end module rd_multibody
