@@ -171,10 +171,11 @@ contains
   end subroutine fail_now
 
   logical function all_finite(p)
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     type(hertz_patch_t), intent(in) :: p
     real(wp) :: v(8)
     v = [p%a, p%b, p%normal_force, p%approach, p%p0, p%stiffness, p%m, p%n]
-    all_finite = all(v == v) .and. all(abs(v) <= huge(1.0_wp))
+    all_finite = all(ieee_is_finite(v))
   end function all_finite
 
   function ieee_nan() result(x)

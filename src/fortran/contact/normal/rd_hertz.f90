@@ -324,8 +324,10 @@ contains
     end function residual
   end subroutine solve_kprime
 
+  !> ieee_is_finite does not raise the invalid flag on NaN (Debug builds trap it).
   elemental logical function finite(x)
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     real(wp), intent(in) :: x
-    finite = (x == x) .and. abs(x) <= huge(x)
+    finite = ieee_is_finite(x)
   end function finite
 end module rd_hertz

@@ -9,6 +9,7 @@ module rd_creep_law
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   use rd_creepage, only: creepage_t
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
   public :: creep_law_t, contact_patch_t, creep_force_t, creepage_t, creep_law_options_t
@@ -83,7 +84,7 @@ contains
     real(wp) :: v(10)
     v = [patch%a, patch%b, patch%normal_force, patch%shear_modulus, patch%poisson, patch%friction, &
          patch%rolling_speed, creep%xi, creep%eta, creep%phi]
-    if (.not. all(v == v .and. abs(v) <= huge(1.0_wp))) then
+    if (.not. all(ieee_is_finite(v))) then
       call make_error(error, RD_ERR_INPUT, 'creep law: inputs must be finite numbers')
     else if (.not. (patch%a > 0.0_wp .and. patch%b > 0.0_wp)) then
       call make_error(error, RD_ERR_INPUT, 'creep law: semi-axes a and b must be > 0 m')

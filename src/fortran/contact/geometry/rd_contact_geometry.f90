@@ -1,0 +1,120 @@
+!> Wheel-rail contact geometry of a wheelset: the model chosen per wheelset (strip
+!> interpenetration with real profiles, or knife-edge conical wheels), its parameters fixed
+!> after init, and one pure entry point returning the patches of both wheels.
+!>
+!> Both models are written for the left wheel; the right wheel is evaluated as the left
+!> wheel of the mirrored pose (y, phi, psi) -> (-y, -phi, -psi) and the result mirrored back
+!> (reflection Y -> -Y), so symmetric profiles give exactly mirror-symmetric contacts.
+module rd_contact_geometry
+  use rd_kinds, only: wp
+  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME
+  use rd_profile, only: profile_t
+  use rd_contact_surfaces, only: track_placement_t, surface_options_t, wheel_surface_t, rail_surface_t, &
+    build_wheel_surface, build_rail_surface
+  use rd_contact_patch, only: wheel_contact_t, mirror_wheel_contact
+  use rd_strip_contact, only: strip_wheel_contact
+  use rd_knife_edge_contact, only: knife_edge_t, knife_wheel_contact
+  implicit none
+  private
+  public :: contact_geometry_t, CONTACT_MODEL_STRIP, CONTACT_MODEL_KNIFE_EDGE
+  public :: init_strip_contact, init_knife_edge_contact, wheelset_contact, wheel_contact
+  public :: SIDE_LEFT, SIDE_RIGHT
+
+  integer, parameter :: CONTACT_MODEL_STRIP = 1
+  integer, parameter :: CONTACT_MODEL_KNIFE_EDGE = 2
+  integer, parameter :: SIDE_LEFT = 1, SIDE_RIGHT = 2
+
+  type :: contact_geometry_t
+    integer :: model = 0
+    type(track_placement_t) :: placement
+    type(wheel_surface_t) :: wheel      !< strip model: left wheel, wheelset frame
+    type(rail_surface_t) :: rail        !< strip model: left rail, track frame
+    type(knife_edge_t) :: knife         !< knife-edge model
+  end type contact_geometry_t
+
+contains
+
+  subroutine init_strip_contact(geo, wheel_profile, rail_profile, placement, options, error)
+    type(contact_geometry_t), intent(out) :: geo
+    type(profile_t), intent(in) :: wheel_profile, rail_profile
+    type(track_placement_t), intent(in) :: placement
+    type(surface_options_t), intent(in) :: options
+    type(error_t), allocatable, intent(out) :: error
+    geo%model = CONTACT_MODEL_STRIP
+    geo%placement = placement
+    call build_wheel_surface(wheel_profile, placement, options, geo%wheel, error)
+    if (.not. allocated(error)) call build_rail_surface(rail_profile, placement, options, geo%rail, error)
+    if (allocated(error)) then
+      call error_context(error, 'init_strip_contact')
+      return
+    end if
+    if (geo%wheel%y(1) > geo%rail%y(1) .or. geo%wheel%y(geo%wheel%n) < geo%rail%y(geo%rail%n)) then
+      ! fine: the wheel may be narrower than the rail; nothing to check beyond overlap
+      if (geo%wheel%y(geo%wheel%n) < geo%rail%y(1) .or. geo%wheel%y(1) > geo%rail%y(geo%rail%n)) then
+        call make_error(error, RD_ERR_INPUT, 'init_strip_contact: wheel and rail do not overlap laterally; '// &
+          'check gauge, back-to-back distance and flange back position')
+        return
+      end if
+    end if
+  end subroutine init_strip_contact
+
+  subroutine init_knife_edge_contact(geo, knife, error)
+    type(contact_geometry_t), intent(out) :: geo
+    type(knife_edge_t), intent(in) :: knife
+    type(error_t), allocatable, intent(out) :: error
+    if (.not. (knife%cone_angle >= 0 .and. knife%cone_angle < 0.8_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'init_knife_edge_contact: cone angle must be in [0, 0.8) rad')
+    else if (.not. (knife%e0 > 0.2_wp .and. knife%e0 < 1.5_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'init_knife_edge_contact: e0 must be in (0.2, 1.5) m')
+    else if (.not. (knife%r0 > 0.1_wp .and. knife%r0 < 2.0_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'init_knife_edge_contact: r0 must be in (0.1, 2) m')
+    else if (.not. (knife%rail_crown_radius > 0)) then
+      call make_error(error, RD_ERR_INPUT, 'init_knife_edge_contact: rail crown radius must be > 0')
+    end if
+    if (allocated(error)) return
+    geo%model = CONTACT_MODEL_KNIFE_EDGE
+    geo%knife = knife
+    geo%placement%nominal_radius = knife%r0
+  end subroutine init_knife_edge_contact
+
+  !> One wheel (SIDE_LEFT or SIDE_RIGHT) for the wheelset pose relative to its track frame.
+  pure subroutine wheel_contact(geo, side, y, z, phi, psi, res)
+    type(contact_geometry_t), intent(in) :: geo
+    integer, intent(in) :: side
+    real(wp), intent(in) :: y, z, phi, psi
+    type(wheel_contact_t), intent(out) :: res
+    real(wp) :: sgn
+    sgn = merge(1.0_wp, -1.0_wp, side == SIDE_LEFT)
+    select case (geo%model)
+    case (CONTACT_MODEL_STRIP)
+      call strip_wheel_contact(geo%wheel, geo%rail, sgn * y, z, sgn * phi, sgn * psi, res)
+    case (CONTACT_MODEL_KNIFE_EDGE)
+      call knife_wheel_contact(geo%knife, sgn * y, z, sgn * phi, sgn * psi, res)
+    case default
+      res%n_patches = 0
+    end select
+    if (side == SIDE_RIGHT) call mirror_wheel_contact(res)
+  end subroutine wheel_contact
+
+  !> Both wheels. Pose: lateral y, vertical z [m] of the wheelset centre in its track frame,
+  !> roll phi, yaw psi [rad] (docs/conventions.md). Fails on a non-finite pose or an
+  !> uninitialised geometry.
+  pure subroutine wheelset_contact(geo, y, z, phi, psi, left, right, error)
+    type(contact_geometry_t), intent(in) :: geo
+    real(wp), intent(in) :: y, z, phi, psi
+    type(wheel_contact_t), intent(out) :: left, right
+    type(error_t), allocatable, intent(out) :: error
+    if (geo%model == 0) then
+      call make_error(error, RD_ERR_INPUT, 'wheelset_contact: contact geometry not initialised')
+      return
+    end if
+    if (.not. (abs(y) < 1 .and. abs(z) < 10 .and. abs(phi) < 1 .and. abs(psi) < 1)) then
+      call make_error(error, RD_ERR_RUNTIME, 'wheelset_contact: wheelset pose not finite or out of range '// &
+        '(|y| < 1 m, |z| < 10 m, |roll|, |yaw| < 1 rad)')
+      return
+    end if
+    call wheel_contact(geo, SIDE_LEFT, y, z, phi, psi, left)
+    call wheel_contact(geo, SIDE_RIGHT, y, z, phi, psi, right)
+  end subroutine wheelset_contact
+
+end module rd_contact_geometry

@@ -1,0 +1,76 @@
+!> The result of the contact geometry for one wheel: up to MAX_PATCHES contact patches,
+!> each with what the normal (Hertz) and tangential (creep) models need. Frames and signs:
+!> docs/conventions.md ("Wheel-rail contact", "Profiles").
+module rd_contact_patch
+  use rd_kinds, only: wp
+  implicit none
+  private
+  public :: contact_patch_t, wheel_contact_t, MAX_PATCHES
+  public :: PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK, PATCH_FLANGE_SPRING, patch_kind_name
+  public :: mirror_wheel_contact
+
+  integer, parameter :: MAX_PATCHES = 4
+
+  integer, parameter :: PATCH_TREAD = 1        !< |contact angle| < 0.3 rad
+  integer, parameter :: PATCH_FLANGE = 2       !< flange face, |contact angle| >= 0.3 rad
+  integer, parameter :: PATCH_FLANGE_BACK = 3  !< back of the flange (radius growing to the field side)
+  !> knife-edge model only: lateral flange stop; `penetration` is the lateral overlap
+  !> beyond the clearance, to be used with a lateral stiffness, curvatures are zero.
+  integer, parameter :: PATCH_FLANGE_SPRING = 4
+
+  type :: contact_patch_t
+    integer :: kind = PATCH_TREAD
+    real(wp) :: penetration = 0       !< [m] > 0 in contact, normal to the wheel surface
+    real(wp) :: point_rail(3) = 0     !< contact point on the rail, track frame [m]
+    real(wp) :: point_wheel(3) = 0    !< contact point on the wheel, wheelset intermediate
+                                      !< frame (yaw and roll, no spin), origin at the wheelset centre [m]
+    real(wp) :: s_wheel = 0           !< wheel profile coordinate (from the tape circle, + field) [m]
+    real(wp) :: u_rail = 0            !< rail profile coordinate (profile input frame, + field) [m]
+    real(wp) :: normal(3) = [0.0_wp, 0.0_wp, 1.0_wp]  !< unit normal, rail -> wheel, track frame
+    real(wp) :: contact_angle = 0     !< [rad] rotation of the normal from Z_T, + towards +Y
+    real(wp) :: rolling_radius = 0    !< wheel radius at the contact point [m]
+    real(wp) :: curv_wheel_roll = 0   !< wheel principal curvature, rolling direction [1/m] (+ convex)
+    real(wp) :: curv_wheel_lat = 0    !< wheel profile curvature, lateral direction [1/m] (+ convex)
+    real(wp) :: curv_rail_roll = 0    !< rail curvature, rolling direction [1/m] (0: straight)
+    real(wp) :: curv_rail_lat = 0     !< rail profile curvature, lateral [1/m] (+ convex)
+    real(wp) :: u_rail_min = 0        !< patch extent: range of the interpenetration strips
+    real(wp) :: u_rail_max = 0        !< on the rail profile coordinate [m]
+    real(wp) :: strip_length = 0      !< length of the deepest strip (thesis eq. 4.72) [m]
+  end type contact_patch_t
+
+  type :: wheel_contact_t
+    integer :: n_patches = 0
+    type(contact_patch_t) :: patch(MAX_PATCHES)
+    !> largest signed penetration over all strips [m]: < 0 is minus the smallest gap
+    !> (used by the rigid-contact search); equals the deepest patch's penetration in contact.
+    real(wp) :: max_penetration = -huge(1.0_wp)
+  end type wheel_contact_t
+
+contains
+
+  pure function patch_kind_name(kind) result(name)
+    integer, intent(in) :: kind
+    character(len=:), allocatable :: name
+    select case (kind)
+    case (PATCH_TREAD); name = 'tread'
+    case (PATCH_FLANGE); name = 'flange'
+    case (PATCH_FLANGE_BACK); name = 'flange-back'
+    case (PATCH_FLANGE_SPRING); name = 'flange-spring'
+    case default; name = 'unknown'
+    end select
+  end function patch_kind_name
+
+  !> Mirror a left-wheel result into the right wheel (reflection Y -> -Y of track and
+  !> wheelset frames); profile coordinates are side independent and stay.
+  pure subroutine mirror_wheel_contact(res)
+    type(wheel_contact_t), intent(inout) :: res
+    integer :: i
+    do i = 1, res%n_patches
+      res%patch(i)%point_rail(2) = -res%patch(i)%point_rail(2)
+      res%patch(i)%point_wheel(2) = -res%patch(i)%point_wheel(2)
+      res%patch(i)%normal(2) = -res%patch(i)%normal(2)
+      res%patch(i)%contact_angle = -res%patch(i)%contact_angle
+    end do
+  end subroutine mirror_wheel_contact
+
+end module rd_contact_patch

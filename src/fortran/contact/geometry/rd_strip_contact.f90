@@ -1,0 +1,251 @@
+!> Strip interpenetration contact between a real wheel and a real rail (thesis 4.7,
+!> eqs. 4.64-4.77): the wheel is the revolution of its profile (each segment a cone), the
+!> rail the extrusion of its profile (each point a longitudinal line = one strip); the
+!> virtual penetration of each line into the wheel is found analytically (rd_line_cone),
+!> contiguous penetrating strips form a patch, and the patch's contact point is the strip
+!> of maximum penetration (4.77), refined by a parabola through it and its neighbours so
+!> that the point and the penetration move continuously with the pose.
+!>
+!> Works on the LEFT wheel/rail (rd_contact_surfaces); rd_contact_geometry mirrors the pose
+!> for the right wheel. Pure, no heap allocation (automatic scratch arrays on the stack).
+module rd_strip_contact
+  use rd_kinds, only: wp
+  use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t, locate, wheel_radius_at
+  use rd_contact_patch, only: contact_patch_t, wheel_contact_t, MAX_PATCHES, &
+    PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
+  use rd_line_cone, only: line_cone_roots, line_cone_max_depth
+  implicit none
+  private
+  public :: strip_wheel_contact
+
+  real(wp), parameter :: flange_angle = 0.3_wp   !< |contact angle| from which a patch is a flange patch
+
+contains
+
+  !> Contact of the left wheel with the left rail for the wheelset pose relative to the
+  !> track frame: lateral y, vertical z of the wheelset centre, roll phi, yaw psi
+  !> (B = R_z(psi) R_x(phi), docs/conventions.md).
+  pure subroutine strip_wheel_contact(wheel, rail, y, z, phi, psi, res)
+    type(wheel_surface_t), intent(in) :: wheel
+    type(rail_surface_t), intent(in) :: rail
+    real(wp), intent(in) :: y, z, phi, psi
+    type(wheel_contact_t), intent(out) :: res
+    real(wp) :: delta(rail%n), tline(rail%n), pw(3, rail%n)
+    integer :: jseg(rail%n)
+    real(wp) :: bt(3, 3), d(3), a, cp, sp, cs, ss, rel(3), p0(3), proj, t0, rho, py0, pz0, px0
+    real(wp) :: half, best, dep, tau, taub, ext, ylo, yhi, k
+    integer :: i, ilo, ihi, j, jlo, jhi, jb, i1, i2, kmax, np, iw
+    logical :: found
+
+    cp = cos(phi); sp = sin(phi); cs = cos(psi); ss = sin(psi)
+    ! B^T for B = R_z(psi) R_x(phi): rows are B's columns
+    bt(1, :) = [cs, ss, 0.0_wp]
+    bt(2, :) = [-ss * cp, cs * cp, sp]
+    bt(3, :) = [ss * sp, -cs * sp, cp]
+    d = bt(:, 1)                          ! track x axis in the intermediate frame
+    a = hypot(d(1), d(3))
+
+    ! lateral window: rail lines under the wheel's footprint (bounding box of the rolled,
+    ! yawed wheel), found by bisection on the rail's monotonic Y
+    ext = wheel%r_max * (abs(sp) + abs(ss)) + 2.0e-3_wp
+    ylo = y + min(wheel%y(1) * cp, wheel%y(1)) - ext
+    yhi = y + max(wheel%y(wheel%n) * cp, wheel%y(wheel%n)) + ext
+    ilo = max(1, locate(rail%y, ylo) - 1)
+    ihi = min(rail%n, locate(rail%y, yhi) + 2)
+
+    delta = -huge(1.0_wp)
+    tline = 0; pw = 0; jseg = 1
+    do i = ilo, ihi
+      rel = [0.0_wp, rail%y(i) - y, rail%z(i) - z]
+      p0 = matmul(bt, rel)
+      proj = p0(1) * d(1) + p0(3) * d(3)
+      t0 = -proj / a**2                   ! closest approach of the line to the axle
+      px0 = p0(1) + t0 * d(1)
+      pz0 = p0(3) + t0 * d(3)
+      py0 = p0(2) + t0 * d(2)
+      rho = hypot(px0, pz0)
+      if (pz0 >= 0) cycle                 ! above the axle: not the running surface
+      best = -huge(1.0_wp); jb = locate(wheel%y, py0); taub = 0
+      if (rho < wheel%r_max .and. py0 > wheel%y(1) - 0.2_wp .and. py0 < wheel%y(wheel%n) + 0.2_wp) then
+        ! only cones the line can reach: rho(t) < r_max bounds |t - t0|, hence p_y
+        half = abs(d(2)) * sqrt(wheel%r_max**2 - rho**2) / a
+        jlo = locate(wheel%y, py0 - half)
+        jhi = locate(wheel%y, py0 + half)
+        do j = jlo, jhi
+          call line_cone_max_depth(t0, rho, py0, a, d(2), wheel%y(j), wheel%r(j), &
+                                   wheel%y(j + 1), wheel%r(j + 1), found, dep, tau)
+          if (found .and. dep > best) then
+            best = dep; jb = j; taub = tau
+          end if
+        end do
+      end if
+      if (best == -huge(1.0_wp)) then
+        best = wheel_radius_at(wheel, py0) - rho    ! far away: radial gap is enough
+        taub = 0
+      end if
+      k = (wheel%r(jb + 1) - wheel%r(jb)) / (wheel%y(jb + 1) - wheel%y(jb))
+      ! radial depth -> depth normal to the wheel cone (thesis 4.75-4.76: delta ~ d cos(gamma_s))
+      delta(i) = best / sqrt(1 + k**2)
+      tline(i) = t0 + taub
+      pw(:, i) = p0 + tline(i) * d
+      jseg(i) = jb
+    end do
+
+    res%n_patches = 0
+    res%max_penetration = -huge(1.0_wp)
+    if (ihi < ilo) return
+    kmax = ilo - 1 + maxloc(delta(ilo:ihi), dim=1)
+    res%max_penetration = refined_peak(delta, kmax, ilo, ihi)
+
+    ! patches: runs of penetrating strips
+    i = ilo
+    np = 0
+    do while (i <= ihi)
+      if (delta(i) <= 0) then
+        i = i + 1
+        cycle
+      end if
+      i1 = i
+      do while (i < ihi)
+        if (delta(i + 1) <= 0) exit
+        i = i + 1
+      end do
+      i2 = i
+      i = i + 1
+      kmax = i1 - 1 + maxloc(delta(i1:i2), dim=1)
+      if (np < MAX_PATCHES) then
+        np = np + 1
+        iw = np
+      else                                    ! keep the MAX_PATCHES deepest
+        iw = minloc(res%patch(:)%penetration, dim=1)
+        if (res%patch(iw)%penetration >= delta(kmax)) cycle
+      end if
+      call fill_patch(res%patch(iw), i1, i2, kmax)
+    end do
+    res%n_patches = np
+
+  contains
+
+    pure subroutine fill_patch(p, i1, i2, kc)
+      type(contact_patch_t), intent(out) :: p
+      integer, intent(in) :: i1, i2, kc
+      real(wp) :: x, w, slope, rr, nrm, te, tx
+      integer :: kk, jw
+      x = peak_offset(delta, kc, ilo, ihi)
+      kk = kc + merge(1, -1, x >= 0)
+      w = abs(x)
+      if (kk < ilo .or. kk > ihi) then
+        kk = kc; w = 0
+      end if
+      p%penetration = refined_peak(delta, kc, ilo, ihi)
+      p%point_rail = [lerp(tline(kc), tline(kk)), lerp(rail%y(kc), rail%y(kk)), lerp(rail%z(kc), rail%z(kk))]
+      p%point_wheel = pw(:, kc) + w * (pw(:, kk) - pw(:, kc))
+      p%u_rail = lerp(rail%u(kc), rail%u(kk))
+      p%normal = [0.0_wp, lerp(rail%ny(kc), rail%ny(kk)), lerp(rail%nz(kc), rail%nz(kk))]
+      nrm = norm2(p%normal)
+      p%normal = p%normal / nrm
+      p%contact_angle = atan2(p%normal(2), p%normal(3))
+      p%curv_rail_lat = lerp(rail%kappa(kc), rail%kappa(kk))
+      p%curv_rail_roll = 0
+      jw = locate(wheel%y, p%point_wheel(2))
+      x = (p%point_wheel(2) - wheel%y(jw)) / (wheel%y(jw + 1) - wheel%y(jw))
+      x = min(max(x, 0.0_wp), 1.0_wp)
+      p%s_wheel = wheel%s(jw) + x * (wheel%s(jw + 1) - wheel%s(jw))
+      rr = wheel%r(jw) + x * (wheel%r(jw + 1) - wheel%r(jw))
+      slope = wheel%slope(jw) + x * (wheel%slope(jw + 1) - wheel%slope(jw))
+      p%rolling_radius = rr
+      p%curv_wheel_lat = wheel%kappa(jw) + x * (wheel%kappa(jw + 1) - wheel%kappa(jw))
+      ! normal curvature of a surface of revolution along its parallel: cos(gamma_s)/r
+      ! (the inverse of the thesis' indentation radius R_s = r_s / cos(gamma_s), eq. 4.75)
+      p%curv_wheel_roll = 1 / (rr * sqrt(1 + slope**2))
+      if (abs(p%contact_angle) < flange_angle) then
+        p%kind = PATCH_TREAD
+      else if (slope > 0) then
+        p%kind = PATCH_FLANGE_BACK
+      else
+        p%kind = PATCH_FLANGE
+      end if
+      ! extent: zero crossings of the signed penetration at both ends of the run
+      p%u_rail_min = rail%u(i1)
+      if (i1 > ilo) then
+        if (delta(i1 - 1) > -huge(1.0_wp)) then
+          w = delta(i1) / (delta(i1) - delta(i1 - 1))
+          p%u_rail_min = rail%u(i1) + w * (rail%u(i1 - 1) - rail%u(i1))
+        end if
+      end if
+      p%u_rail_max = rail%u(i2)
+      if (i2 < ihi) then
+        if (delta(i2 + 1) > -huge(1.0_wp)) then
+          w = delta(i2) / (delta(i2) - delta(i2 + 1))
+          p%u_rail_max = rail%u(i2) + w * (rail%u(i2 + 1) - rail%u(i2))
+        end if
+      end if
+      call strip_ends(kc, te, tx)
+      p%strip_length = tx - te
+    contains
+      pure real(wp) function lerp(u, v)
+        real(wp), intent(in) :: u, v
+        lerp = u + w * (v - u)
+      end function lerp
+    end subroutine fill_patch
+
+    !> Entry and exit of rail line i through the wheel (thesis 4.68-4.71: when alpha falls
+    !> outside [0, 1] the intersection continues on segment j-1 or j+1).
+    pure subroutine strip_ends(i, t_entry, t_exit)
+      integer, intent(in) :: i
+      real(wp), intent(out) :: t_entry, t_exit
+      real(wp) :: q0(3), tr(2), al(2)
+      integer :: j, it, nr, side
+      q0 = matmul(bt, [0.0_wp, rail%y(i) - y, rail%z(i) - z])
+      t_entry = tline(i); t_exit = tline(i)
+      do side = 1, 2
+        j = jseg(i)
+        do it = 1, wheel%n
+          call line_cone_roots(q0, d, wheel%y(j), wheel%r(j), wheel%y(j + 1), wheel%r(j + 1), nr, tr, al)
+          if (nr < 2) exit
+          if (al(side) < 0) then
+            if (j == 1) exit
+            j = j - 1
+          else if (al(side) > 1) then
+            if (j == wheel%n - 1) exit
+            j = j + 1
+          else
+            if (side == 1) then
+              t_entry = tr(1)
+            else
+              t_exit = tr(2)
+            end if
+            exit
+          end if
+        end do
+      end do
+    end subroutine strip_ends
+
+  end subroutine strip_wheel_contact
+
+  !> Vertex offset (in strips, within +-0.5) of the parabola through delta(k-1..k+1).
+  pure real(wp) function peak_offset(delta, k, ilo, ihi) result(x)
+    real(wp), intent(in) :: delta(:)
+    integer, intent(in) :: k, ilo, ihi
+    real(wp) :: dm, dp, den
+    x = 0
+    if (k <= ilo .or. k >= ihi) return
+    dm = delta(k - 1); dp = delta(k + 1)
+    if (dm == -huge(1.0_wp) .or. dp == -huge(1.0_wp)) return
+    den = dm - 2 * delta(k) + dp
+    if (den >= 0) return
+    x = 0.5_wp * (dm - dp) / den
+    x = min(max(x, -0.5_wp), 0.5_wp)
+  end function peak_offset
+
+  !> Vertex value of that parabola (= delta(k) at the ends of the window).
+  pure real(wp) function refined_peak(delta, k, ilo, ihi) result(v)
+    real(wp), intent(in) :: delta(:)
+    integer, intent(in) :: k, ilo, ihi
+    real(wp) :: x
+    v = delta(k)
+    x = peak_offset(delta, k, ilo, ihi)
+    if (x /= 0) v = delta(k) - 0.25_wp * (delta(k - 1) - delta(k + 1)) * x
+  end function refined_peak
+
+end module rd_strip_contact
