@@ -3,6 +3,7 @@
 !> the test itself feeds in: shapes as h5py sees them (rows = steps), exact values, units,
 !> components, metadata; refusal of NaN/Inf naming the series; an unwritable path;
 !> two writers alive in one process; call-order errors; an empty run.
+!> Reals are compared exactly on purpose: storage must be bit-exact.
 program test_hdf5_writer
   use, intrinsic :: iso_c_binding, only: c_char, c_loc, c_ptr
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
@@ -13,7 +14,6 @@ program test_hdf5_writer
   implicit none
 
   integer :: failures = 0
-  character(len=*), parameter :: dir = 'build-test-hdf5-tmp'
   character(len=512) :: tmpdir
 
   call get_environment_variable('TMPDIR', tmpdir)
@@ -38,15 +38,10 @@ contains
     character(len=*), intent(in) :: name
     character(len=:), allocatable :: path
     character(len=16) :: pid
-    write (pid, '(i0)') getpid_portable()
+    ! Process id (GNU extension) keeps parallel ctest runs (Release, Debug) apart.
+    write (pid, '(i0)') getpid()
     path = trim(tmpdir) // '/rd_test_hdf5_' // trim(pid) // '_' // name
   end function tmpfile
-
-  integer function getpid_portable()
-    integer :: values(8)
-    call date_and_time(values=values)
-    getpid_portable = values(7)*1000 + values(8)
-  end function getpid_portable
 
   subroutine check(condition, what)
     logical, intent(in) :: condition
