@@ -168,8 +168,9 @@ contains
     type(error_t), allocatable, intent(out) :: error
 
     real(c_double) :: t_reached
-    integer(c_int) :: flag
+    integer(c_int) :: flag, valid
     integer :: bad
+    real(wp) :: y_before(self%n)
 
     if (self%method == 0) then
       call make_error(error, RD_ERR_HANDLE, 'integrator used before init')
@@ -192,6 +193,7 @@ contains
       return
     end if
     if (allocated(self%context%rhs_error)) deallocate (self%context%rhs_error)
+    self%context%fatal = .false.
 
     select case (self%method)
     case (METHOD_RK4, METHOD_HEUN)
@@ -201,15 +203,18 @@ contains
         return
       end if
     case default
-      flag = rd_glue_advance(self%glue, t_out, self%y, t_reached)
+      y_before = self%y
+      flag = rd_glue_advance(self%glue, t_out, self%y, t_reached, valid)
       if (flag < 0) then
-        call self%report_sundials_failure(int(flag), t_out, t_reached, error)
-        ! SUNDIALS leaves y at the last time it reached; it is a valid state if finite.
-        bad = first_non_finite(self%y)
-        if (bad == 0) then
+        ! Return the state at the last time SUNDIALS reached if it is known and finite,
+        ! else keep the state of the previous output.
+        if (valid /= 0 .and. first_non_finite(self%y) == 0) then
           self%t = t_reached
-          y = self%y
+        else
+          self%y = y_before
         end if
+        call self%report_sundials_failure(int(flag), t_out, self%t, error)
+        y = self%y
         return
       end if
       self%t = t_out
@@ -272,8 +277,9 @@ contains
         end if
         if (status == RHS_RECOVERABLE) call error_context(error, &
           'a fixed-step method cannot retry with a smaller step')
-        call error_context(error, self%method_name() // ' failed at t = ' // &
-                           real_to_text(t_step) // ' s (step h = ' // real_to_text(h) // ' s)')
+        call error_context(error, self%method_name() // ' failed advancing to ' // &
+                           real_to_text(t_out) // ' s (time reached ' // real_to_text(t_step) // &
+                           ' s, step h = ' // real_to_text(h) // ' s)')
         return
       end if
       self%fixed_stats%steps = self%fixed_stats%steps + 1
@@ -294,14 +300,14 @@ contains
     logical :: rhs_flag
 
     call self%get_stats(stats)
-    text = self%method_name() // ' failed at t = ' // real_to_text(t_reached) // &
-           ' s (advancing to ' // real_to_text(t_out) // ' s, last step h = ' // &
+    text = self%method_name() // ' failed advancing to ' // real_to_text(t_out) // &
+           ' s (time reached ' // real_to_text(t_reached) // ' s, last step h = ' // &
            real_to_text(stats%last_step) // ' s): ' // self%sundials_text(flag)
     code = RD_ERR_RUNTIME
     rhs_flag = any(flag == [flag_rhsfunc_fail, flag_first_rhsfunc_err, flag_reptd_rhsfunc_err, &
                             flag_unrec_rhsfunc_err, flag_lsetup_fail])
     if (allocated(self%context%rhs_error)) then
-      if (rhs_flag) then
+      if (rhs_flag .or. self%context%fatal) then
         text = text // '; ' // self%context%rhs_error%message
         code = self%context%rhs_error%code    ! keep e.g. a physics-limit code from the model
       else
@@ -364,6 +370,7 @@ contains
     end if
     self%t = t
     self%y = y
+    self%context%fatal = .false.
     self%reinits = self%reinits + 1
   end subroutine reinit
 

@@ -37,6 +37,11 @@ module rd_rhs_context
     procedure(jacobian_i), pointer, nopass :: jacobian => null()
     type(error_t), allocatable :: rhs_error   !< last failure reported by the RHS or Jacobian
     integer(i8) :: rhs_failures = 0           !< RHS calls that failed (recoverable or not)
+    !> Set by an unrecoverable RHS failure; until cleared (next advance / reinit) every
+    !> evaluation fails at once. SUNDIALS does not always stop on the first negative
+    !> return (CVODE 6.4's fixed-point iteration retries it like a recoverable one, then
+    !> shrinks h until t + h == t), so the latch makes the failure final and fast.
+    logical :: fatal = .false.
   contains
     procedure :: evaluate_rhs
     procedure :: evaluate_jacobian
@@ -55,6 +60,11 @@ contains
     logical :: recoverable
     integer :: i
 
+    if (self%fatal) then
+      ydot = 0.0_wp
+      status = RHS_FATAL
+      return
+    end if
     recoverable = .false.
     call self%system%rhs(t, y, ydot, error, recoverable)
     if (allocated(error)) then
@@ -62,6 +72,7 @@ contains
       call move_alloc(error, self%rhs_error)
       self%rhs_failures = self%rhs_failures + 1
       status = merge(RHS_RECOVERABLE, RHS_FATAL, recoverable)
+      self%fatal = .not. recoverable
       return
     end if
     do i = 1, size(ydot)
@@ -91,10 +102,16 @@ contains
     integer :: status
     type(error_t), allocatable :: error
 
+    if (self%fatal) then
+      jac = 0.0_wp
+      status = RHS_FATAL
+      return
+    end if
     call self%jacobian(self%system, t, y, ydot, jac, error)
     if (allocated(error)) then
       call error_context(error, 'jacobian at t = ' // real_to_text(t) // ' s')
       call move_alloc(error, self%rhs_error)
+      self%fatal = .true.
       status = RHS_FATAL
       return
     end if

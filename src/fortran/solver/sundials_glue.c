@@ -377,24 +377,51 @@ int rd_glue_use_jacobian(void *handle) {
   return flag;
 }
 
-/* Integrate to exactly tout (tstop = tout, never stepping past it). y_out gets the
- * solution at *t_reached (tout on success, the last time reached on failure). */
-int rd_glue_advance(void *handle, double tout, double *y_out, double *t_reached) {
+/* Integrate to exactly tout (tstop = tout, never stepping past it). On success y_out
+ * gets the solution at *t_reached = tout. On failure *t_reached is the last time the
+ * integrator reached and y_out its solution there (interpolated from the method's own
+ * history, order 0 = the accepted state), or *valid = 0 if that is not available. */
+int rd_glue_advance(void *handle, double tout, double *y_out, double *t_reached, int *valid) {
   rd_glue_t *g = (rd_glue_t *)handle;
-  sunrealtype tret = 0.0;
+  sunrealtype tret = 0.0, tcur = 0.0;
   int flag;
   g->msg[0] = '\0';
+  *valid = 1;
   if (g->method == RD_GLUE_ERK) {
     flag = ERKStepSetStopTime(g->mem, tout);
     if (flag == 0) flag = ERKStepEvolve(g->mem, tout, g->y, &tret, ARK_NORMAL);
     if (flag == ARK_TSTOP_RETURN) flag = ARK_SUCCESS;
+    if (flag < 0) {
+      /* The output vector is not updated on failure: ask for the state at the time
+       * reached. Interpolation needs a step taken and may be unavailable after a failed
+       * RHS call (6.4: "Error calling arkInterpEvaluate"); then the caller keeps the
+       * previous output. Keep SUNDIALS' message about the real failure. */
+      char saved[RD_GLUE_MSG_LEN];
+      long nst = 0;
+      memcpy(saved, g->msg, sizeof(saved));
+      *valid = ERKStepGetNumSteps(g->mem, &nst) == 0 && nst > 0 &&
+               ERKStepGetCurrentTime(g->mem, &tcur) == 0 &&
+               ERKStepGetDky(g->mem, tcur, 0, g->y) == 0;
+      memcpy(g->msg, saved, sizeof(saved));
+      if (*valid) tret = tcur;
+    }
   } else {
     flag = CVodeSetStopTime(g->mem, tout);
     if (flag == 0) flag = CVode(g->mem, tout, g->y, &tret, CV_NORMAL);
     if (flag == CV_TSTOP_RETURN) flag = CV_SUCCESS;
+    if (flag < 0) {
+      char saved[RD_GLUE_MSG_LEN];
+      long nst = 0;
+      memcpy(saved, g->msg, sizeof(saved));
+      *valid = CVodeGetNumSteps(g->mem, &nst) == 0 && nst > 0 &&
+               CVodeGetCurrentTime(g->mem, &tcur) == 0 &&
+               CVodeGetDky(g->mem, tcur, 0, g->y) == 0;
+      memcpy(g->msg, saved, sizeof(saved));
+      if (*valid) tret = tcur;
+    }
   }
   *t_reached = tret;
-  memcpy(y_out, N_VGetArrayPointer(g->y), (size_t)g->n * sizeof(double));
+  if (*valid) memcpy(y_out, N_VGetArrayPointer(g->y), (size_t)g->n * sizeof(double));
   return flag;
 }
 
