@@ -215,11 +215,49 @@ contains
     do i = 1, len(u)
       if (u(i:i) == 'd' .or. u(i:i) == 'D') u(i:i) = 'e'
     end do
+    ! Decide overflow from the text: converting 1e999 would raise the
+    ! overflow exception (trapped in debug builds) before we could test it.
+    x = 0.0_wp
+    ok = abs(decimal_magnitude(u)) <= 300
+    if (.not. ok) return
     read (u, *, iostat=ios) x
     ok = ios == 0
     if (ok) ok = ieee_is_finite(x)
     if (.not. ok) x = 0.0_wp
   end subroutine text_to_real
+
+  !> Power of ten of a number's leading digit (0 for zero), from its text.
+  pure integer function decimal_magnitude(t)
+    character(len=*), intent(in) :: t
+    integer :: i, epos, dot, first, e, ios
+    decimal_magnitude = 0
+    epos = scan(t, 'eE')
+    e = 0
+    if (epos > 0) then
+      if (len(t) - epos > 6) then
+        decimal_magnitude = huge(1) / 2
+        if (index(t(epos + 1:), '-') > 0) decimal_magnitude = -decimal_magnitude
+        return
+      end if
+      read (t(epos + 1:), *, iostat=ios) e
+    else
+      epos = len(t) + 1
+    end if
+    dot = index(t(1:epos - 1), '.')
+    if (dot == 0) dot = epos
+    first = 0
+    do i = 1, epos - 1
+      if (t(i:i) >= '1' .and. t(i:i) <= '9') then
+        first = i; exit
+      end if
+    end do
+    if (first == 0) return
+    if (first < dot) then
+      decimal_magnitude = dot - first - 1 + e
+    else
+      decimal_magnitude = dot - first + e
+    end if
+  end function decimal_magnitude
 
   subroutine text_to_integer(t, k, ok)
     character(len=*), intent(in) :: t
