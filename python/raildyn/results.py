@@ -98,11 +98,24 @@ class Results:
         for name in self._channels:
             n = min(n, self._file[name].shape[0])
         if n > 0:
-            time = self._file["time"][:n]
-            bad = np.flatnonzero(~np.isfinite(time))
-            if bad.size:
-                n = int(bad[0])
+            n = self._first_nonfinite_row(self._file["time"][:n], n)
+        # A file still marked 'running' (live or killed) may hold cells HDF5 extended but
+        # never wrote (fill value NaN). The writer refuses non-finite values, so the first
+        # such row ends the complete data. Closed files need no scan.
+        meta = self._file.get("meta")
+        running = meta is not None and _text(meta.attrs.get("status", b"")) == "running"
+        if n > 0 and running:
+            for name in self._channels:
+                n = self._first_nonfinite_row(self._file[name][:n], n)
         return int(n)
+
+    @staticmethod
+    def _first_nonfinite_row(data: np.ndarray, n: int) -> int:
+        finite = np.isfinite(data)
+        if finite.ndim > 1:
+            finite = finite.all(axis=1)
+        bad = np.flatnonzero(~finite)
+        return int(bad[0]) if bad.size else n
 
     # -- data -----------------------------------------------------------------------
     @property

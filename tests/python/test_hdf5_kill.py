@@ -47,6 +47,12 @@ def run_and_kill(demo, path, flush_every, buffer_steps, min_flushes, sleep_ms=1)
                 flushed = int(line.split()[1])
                 reports += 1
             assert time.monotonic() < deadline, "demo too slow"
+        # SWMR allows readers while the writer runs: the rows flushed so far are there.
+        with Results(path) as live:
+            assert live.n_steps >= flushed and live.status == "running"
+            t, pos, _ = expected_rows(live.n_steps)
+            np.testing.assert_array_equal(live.time, t)
+            np.testing.assert_allclose(live.get("bodies/demo/position"), pos, rtol=0, atol=1e-15)
         # Kill between flushes: after a few more unflushed steps were buffered or written.
         time.sleep(0.003 * flush_every * sleep_ms / 2)
         os.kill(proc.pid, signal.SIGKILL)

@@ -97,6 +97,23 @@ def test_ragged_and_unwritten_rows_are_trimmed(make_results_file):
         np.testing.assert_array_equal(r.get("bodies/a/x"), data[:6])
 
 
+def test_unwritten_series_cells_of_a_running_file(make_results_file):
+    """In a live or killed file (status 'running') a series row that HDF5 extended but
+    never wrote holds NaN: the rows end there. A closed file is not scanned."""
+    t = np.arange(8) * 0.1
+    data = np.arange(16, dtype=float).reshape(8, 2)
+    data[5, 1] = np.nan
+    path = make_results_file("running.h5", t, {"bodies/a/x": (data, "m", "u v", "")},
+                             meta_attrs={"status": "running"})
+    with Results(path) as r:
+        assert r.n_steps == 5
+        np.testing.assert_array_equal(r.get("bodies/a/x"), data[:5])
+    path = make_results_file("closed.h5", t, {"bodies/a/x": (data, "m", "u v", "")},
+                             meta_attrs={"status": "completed"})
+    with Results(path) as r:
+        assert r.n_steps == 8
+
+
 def test_not_a_results_file(tmp_path):
     path = tmp_path / "other.h5"
     with h5py.File(path, "w") as f:
