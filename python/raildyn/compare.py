@@ -242,3 +242,36 @@ def plot_failures(report: ComparisonReport, res_a, res_b, out_dir: str | os.Path
         if close_b:
             b.close()
     return written
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command line: ``python -m raildyn.compare test.h5 reference.h5 [--rtol R]
+    [--atol A] [--channel C ...] [--plot DIR] [--all]``; exit status 0 when every channel
+    passes, 1 otherwise."""
+    import argparse
+    parser = argparse.ArgumentParser(
+        prog="python -m raildyn.compare",
+        description="Compare the channels of a raildyn results file with a reference "
+                    "(|a-b| <= rtol*range(b) + atol on a common time base).")
+    parser.add_argument("test", help="results file under test")
+    parser.add_argument("reference", help="reference (baseline) results file")
+    parser.add_argument("--rtol", type=float, default=DEFAULT_RTOL,
+                        help=f"tolerance relative to each channel's range (default {DEFAULT_RTOL})")
+    parser.add_argument("--atol", type=float, default=DEFAULT_ATOL,
+                        help=f"absolute tolerance in the channel's unit (default {DEFAULT_ATOL})")
+    parser.add_argument("--channel", action="append", dest="channels",
+                        help="series path or 'path:component' (repeatable; default all)")
+    parser.add_argument("--plot", metavar="DIR", help="write PNG plots of failing channels")
+    parser.add_argument("--all", action="store_true", help="list passing channels too")
+    args = parser.parse_args(argv)
+    report = compare_results(args.test, args.reference, channels=args.channels,
+                             rtol=args.rtol, atol=args.atol)
+    print(report.summary(only_failed=not args.all))
+    if args.plot and not report.passed:
+        for name in plot_failures(report, args.test, args.reference, args.plot):
+            print(f"plot: {name}")
+    return 0 if report.passed else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
