@@ -1,0 +1,87 @@
+!> C-callable contact mechanics calculators (src/c_api/raildyn_calculators.h): a Hertz
+!> patch and the creep forces of one patch. Stateless; status 0 ok, 1 bad input.
+module rd_capi_calculators
+  use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char, c_null_char
+  use rd_kinds, only: wp
+  use rd_error, only: error_t, RD_OK, RD_ERR_INPUT
+  use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_init, hertz_from_force, hertz_from_penetration
+  use rd_creep_law, only: creep_law_t, contact_patch_t, creepage_t, creep_force_t, creep_law_options_t, &
+                          validate_patch
+  use rd_creep_factory, only: make_creep_law
+  implicit none
+  private
+  public :: rd_hertz_patch, rd_creep_forces
+
+  integer, parameter :: max_name = 64
+
+contains
+
+  function rd_hertz_patch(curvatures, young_modulus, poisson_ratio, load_kind, load, a, b, normal_force, &
+                          approach, p0, stiffness, warning) result(status) bind(C, name='rd_hertz_patch')
+    real(c_double), intent(in) :: curvatures(4)
+    real(c_double), value :: young_modulus, poisson_ratio, load
+    integer(c_int), value :: load_kind
+    real(c_double), intent(out) :: a, b, normal_force, approach, p0, stiffness
+    integer(c_int), intent(out) :: warning
+    integer(c_int) :: status
+    type(hertz_params_t) :: params
+    type(hertz_patch_t) :: patch
+    type(error_t), allocatable :: error
+    status = RD_ERR_INPUT
+    if (load_kind /= 0 .and. load_kind /= 1) return
+    call hertz_init(params, error, young_wheel=real(young_modulus, wp), poisson_wheel=real(poisson_ratio, wp))
+    if (allocated(error)) return
+    if (load_kind == 0) then
+      call hertz_from_force(params, real(curvatures, wp), real(load, wp), patch)
+    else
+      call hertz_from_penetration(params, real(curvatures, wp), real(load, wp), patch)
+    end if
+    if (iand(patch%warning, 8) /= 0) return     ! HERTZ_WARN_BAD_INPUT: NaN/Inf given
+    a = patch%a
+    b = patch%b
+    normal_force = patch%normal_force
+    approach = patch%approach
+    p0 = patch%p0
+    stiffness = patch%stiffness
+    warning = patch%warning
+    status = RD_OK
+  end function rd_hertz_patch
+
+  function rd_creep_forces(law, a, b, normal_force, g, nu, mu, xi, eta, phi, grid, fx, fy, mz) &
+      result(status) bind(C, name='rd_creep_forces')
+    character(kind=c_char), intent(in) :: law(*)
+    real(c_double), value :: a, b, normal_force, g, nu, mu, xi, eta, phi
+    integer(c_int), value :: grid
+    real(c_double), intent(out) :: fx, fy, mz
+    integer(c_int) :: status
+    character(len=max_name) :: name
+    type(contact_patch_t) :: patch
+    type(creepage_t) :: creep
+    type(creep_force_t) :: force
+    type(creep_law_options_t) :: options
+    class(creep_law_t), allocatable :: creep_law
+    type(error_t), allocatable :: error
+    integer :: i
+    status = RD_ERR_INPUT
+    name = ''
+    do i = 1, max_name
+      if (law(i) == c_null_char) exit
+      name(i:i) = law(i)
+    end do
+    if (i > max_name) return                  ! not a terminated short name
+    patch = contact_patch_t(a=a, b=b, normal_force=normal_force, shear_modulus=g, poisson=nu, friction=mu)
+    creep%xi = xi; creep%eta = eta; creep%phi = phi
+    call validate_patch(patch, creep, error)
+    if (allocated(error)) return
+    if (grid > 0) then
+      options%grid_nx = grid; options%grid_ny = grid
+    end if
+    call make_creep_law(name, options, creep_law, error)
+    if (allocated(error)) return
+    call creep_law%compute(patch, creep, force)
+    fx = force%fx
+    fy = force%fy
+    mz = force%mz
+    status = RD_OK
+  end function rd_creep_forces
+end module rd_capi_calculators
