@@ -92,7 +92,7 @@ contains
                         'expected absolute tolerances >= 0')
         return
       end if
-      if (settings%rtol == 0.0_wp .and. any(settings%atol_vector == 0.0_wp)) then
+      if (settings%rtol <= 0.0_wp .and. any(settings%atol_vector <= 0.0_wp)) then
         call make_error(error, RD_ERR_INPUT, 'rtol = 0 with a zero entry in atol_vector; ' // &
                         'expected at least one positive tolerance per component')
         return
@@ -103,7 +103,7 @@ contains
                         ' is invalid; expected atol >= 0 (e.g. 1e-8)')
         return
       end if
-      if (settings%rtol == 0.0_wp .and. settings%atol == 0.0_wp) then
+      if (settings%rtol <= 0.0_wp .and. settings%atol <= 0.0_wp) then
         call make_error(error, RD_ERR_INPUT, 'rtol and atol are both zero; ' // &
                         'expected at least one positive tolerance')
         return

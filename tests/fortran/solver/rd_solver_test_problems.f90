@@ -37,11 +37,12 @@ module rd_solver_test_problems
     procedure :: state_size => one_cos
   end type stiff_cosine_t
 
-  !> y' = A y with A = R diag(-1, -1e5) R^T, R a rotation by 30 degrees (eigenvalues -1
-  !> and -1e5, coupled): y(t) = R diag(exp(-t), exp(-1e5 t)) R^T y0.
+  !> y' = A y with A = V diag(-1, -1e5) V^-1, V = [1 0.5; 0.2 1] (eigenvalues -1 and
+  !> -1e5, coupled, A not symmetric so a transposed Jacobian would show):
+  !> y(t) = V diag(exp(-t), exp(-1e5 t)) V^-1 y0.
   type, extends(ode_system_t) :: stiff_pair_t
     real(wp) :: lambda(2) = [-1.0_wp, -1.0e5_wp]
-    real(wp) :: angle = pi / 6.0_wp
+    real(wp) :: coupling(2) = [0.2_wp, 0.5_wp]   !< V(2,1), V(1,2)
   contains
     procedure :: rhs => stiff_pair_rhs
     procedure :: state_size => two_pair
@@ -124,24 +125,34 @@ contains
     one_cos = 1
   end function one_cos
 
+  !> Eigenvector matrix V (columns) and its inverse, written out (2x2 closed form).
+  pure subroutine stiff_pair_modes(self, v, v_inv)
+    class(stiff_pair_t), intent(in) :: self
+    real(wp), intent(out) :: v(2, 2), v_inv(2, 2)
+    real(wp) :: det
+    v = reshape([1.0_wp, self%coupling(1), self%coupling(2), 1.0_wp], [2, 2])
+    det = v(1, 1) * v(2, 2) - v(1, 2) * v(2, 1)
+    v_inv = reshape([v(2, 2), -v(2, 1), -v(1, 2), v(1, 1)], [2, 2]) / det
+  end subroutine stiff_pair_modes
+
   pure function stiff_pair_matrix(self) result(a)
     class(stiff_pair_t), intent(in) :: self
-    real(wp) :: a(2, 2), r(2, 2), d(2, 2)
-    r = reshape([cos(self%angle), sin(self%angle), -sin(self%angle), cos(self%angle)], [2, 2])
+    real(wp) :: a(2, 2), v(2, 2), v_inv(2, 2), d(2, 2)
+    call stiff_pair_modes(self, v, v_inv)
     d = 0.0_wp
     d(1, 1) = self%lambda(1)
     d(2, 2) = self%lambda(2)
-    a = matmul(r, matmul(d, transpose(r)))
+    a = matmul(v, matmul(d, v_inv))
   end function stiff_pair_matrix
 
   pure function stiff_pair_exact(self, t, y0) result(y)
     class(stiff_pair_t), intent(in) :: self
     real(wp), intent(in) :: t, y0(2)
-    real(wp) :: y(2), r(2, 2), z(2)
-    r = reshape([cos(self%angle), sin(self%angle), -sin(self%angle), cos(self%angle)], [2, 2])
-    z = matmul(transpose(r), y0)              ! modal coordinates
+    real(wp) :: y(2), v(2, 2), v_inv(2, 2), z(2)
+    call stiff_pair_modes(self, v, v_inv)
+    z = matmul(v_inv, y0)                     ! modal coordinates
     z = z * exp(self%lambda * t)
-    y = matmul(r, z)
+    y = matmul(v, z)
   end function stiff_pair_exact
 
   subroutine stiff_pair_rhs(self, t, y, ydot, error, recoverable)
