@@ -60,10 +60,12 @@ program test_solver_stiff
   call check_stats_consistent('bdf', bdf_stats, 2)
   call check(jac_stats%rhs_evals_jacobian == 0 .and. jac_stats%jacobian_evals > 0, &
              'bdf+jacobian: analytic Jacobian not used (DQ RHS calls reported)')
-  ! Same Newton matrix up to DQ round-off: same work. (A transposed Jacobian -- A is not
-  ! symmetric -- was checked to break this and the accuracy check above.)
-  call check(abs(jac_stats%steps - bdf_stats%steps) * 5 <= bdf_stats%steps, &
-             'bdf+jacobian: step count differs by more than 20 % from the DQ Jacobian run')
+  ! Same Newton matrix up to DQ round-off: similar work (step counts differ by tens of
+  ! percent with round-off, e.g. between -O0 and -O2, hence the factor 2). A transposed
+  ! Jacobian -- A is not symmetric -- was checked to fail this (3e5 steps) and the
+  ! accuracy check above.
+  call check(jac_stats%steps < 2 * bdf_stats%steps, &
+             'bdf+jacobian: more than twice the steps of the DQ Jacobian run')
   write (*, '(a)') 'test_solver_stiff: all passed'
 
 contains
