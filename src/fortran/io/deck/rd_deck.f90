@@ -165,8 +165,8 @@ contains
                v => self%entities(ie)%values(ip))
       actual = p%ptype
       if (actual /= ptype) then
-        call make_error(error, RD_ERR_INTERNAL, what // 'parameter is a ' // type_text(p) // &
-          ', asked with the wrong type')
+        call make_error(error, RD_ERR_INTERNAL, what // 'parameter has type ' // type_text(p) // &
+          ', asked with another type')
         return
       end if
       if (.not. v%given .and. .not. (allocated(v%reals) .or. allocated(v%integers) .or. &

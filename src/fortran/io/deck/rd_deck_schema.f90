@@ -313,7 +313,7 @@ contains
            allowed='linear|cosine'), &
       preal('gradient', '-', 'longitudinal gradient at the segment end', default=zero, &
             min=-0.1_wp, max=0.1_wp, previous=.true., &
-            cond='default = previous segment''s end gradient (first: 0)')])
+            cond='not given: the previous segment''s end gradient')])
 
     call add_group(s, 'body', .true., 'a rigid body with 6 degrees of freedom in a track frame', [ &
       unique_name('unique body name'), &
@@ -520,6 +520,7 @@ contains
     t = ''
     if (size(p%allowed) > 0) then
       t = 'one of: '
+      if (p%ptype == PT_STRING_LIST) t = 'any of: '
       do i = 1, size(p%allowed)
         if (i > 1) t = t // ', '
         t = t // p%allowed(i)%s
@@ -565,7 +566,9 @@ contains
       associate (g => s%groups(i))
         write (unit, '(a)') '### &' // g%name
         write (unit, '(a)') ''
-        write (unit, '(a)') g%meaning // trim(merge(' (repeatable)  ', ' (at most once)', g%repeatable)) &
+        notes = g%meaning
+        notes(1:1) = achar(iachar(notes(1:1)) - 32)   ! sentence case (meanings start lower case)
+        write (unit, '(a)') notes // trim(merge(' (repeatable)  ', ' (at most once)', g%repeatable)) &
                             // '.'
         write (unit, '(a)') ''
         write (unit, '(a)') '| parameter | type | unit | default | valid | meaning |'
@@ -576,7 +579,6 @@ contains
             flags = ''
             if (p%unique) flags = flags // '; unique'
             if (p%must_exist) flags = flags // '; the file must exist'
-            if (p%increasing) flags = flags // '; increasing'
             if (len(p%condition) > 0) notes = notes // ' (' // p%condition // ')'
             if (len(flags) > 0) notes = notes // ' [' // flags(3:) // ']'
             write (unit, '(a)') '| `' // p%name // '` | ' // type_text(p) // ' | ' // p%unit // &
