@@ -57,9 +57,12 @@ class Results:
     def __init__(self, path: str | os.PathLike):
         self.path = os.fspath(path)
         self._file = open_results_file(self.path)
-        if "time" not in self._file:
+        #: Name of the common axis: 'time' for runs; another one (e.g. 'sigma' for a
+        #: track export) is named in the root attribute 'axis'.
+        self.axis = str(_text(self._file.attrs.get("axis", b"time")))
+        if self.axis not in self._file or not isinstance(self._file[self.axis], h5py.Dataset):
             self._file.close()
-            raise ValueError(f"{self.path}: not a raildyn results file (no /time dataset)")
+            raise ValueError(f"{self.path}: not a raildyn results file (no /{self.axis} dataset)")
         self._channels = self._find_channels()
         self._n = self._count_rows()
 
@@ -83,7 +86,7 @@ class Results:
         names: list[str] = []
 
         def visit(name: str, obj: Any) -> None:
-            if not isinstance(obj, h5py.Dataset) or name == "time":
+            if not isinstance(obj, h5py.Dataset) or name == self.axis:
                 return
             if name.split("/", 1)[0] in _META_GROUPS:
                 return
@@ -94,11 +97,11 @@ class Results:
         return sorted(names)
 
     def _count_rows(self) -> int:
-        n = self._file["time"].shape[0]
+        n = self._file[self.axis].shape[0]
         for name in self._channels:
             n = min(n, self._file[name].shape[0])
         if n > 0:
-            n = self._first_nonfinite_row(self._file["time"][:n], n)
+            n = self._first_nonfinite_row(self._file[self.axis][:n], n)
         # A file still marked 'running' (live or killed) may hold cells HDF5 extended but
         # never wrote (fill value NaN). The writer refuses non-finite values, so the first
         # such row ends the complete data. Closed files need no scan.
@@ -125,8 +128,9 @@ class Results:
 
     @property
     def time(self) -> np.ndarray:
-        """Simulated time of each output step [s], shape (n,)."""
-        return self._file["time"][: self._n]
+        """Simulated time of each output step [s], shape (n,) (the values of the common
+        axis when the file has another one, see ``axis``)."""
+        return self._file[self.axis][: self._n]
 
     def channels(self) -> list[str]:
         """Paths of all time series, e.g. 'bodies/car/position_track' (no leading '/')."""
@@ -138,7 +142,7 @@ class Results:
 
     def _split(self, channel: str) -> tuple[str, str | None]:
         path = channel.strip("/")
-        if path in self._channels or path == "time":
+        if path in self._channels or path == self.axis:
             return path, None
         if ":" in path:
             series, component = path.rsplit(":", 1)
@@ -151,8 +155,8 @@ class Results:
         raise KeyError(f"{self.path}: no series {channel!r}; available: {', '.join(self._channels)}")
 
     def get(self, channel: str) -> np.ndarray:
-        """Series as an array (n, ncomp) (``time``: (n,)); 'path:component' gives one
-        column (n,)."""
+        """Series as an array (n, ncomp) (the axis ``time``: (n,)); 'path:component'
+        gives one column (n,)."""
         path, component = self._split(channel)
         data = self._file[path][: self._n]
         if component is None:
@@ -184,7 +188,7 @@ class Results:
         """One unit per column."""
         path, _ = self._split(channel)
         units = str(self._attr(path, "unit", "")).split()
-        ncomp = 1 if path == "time" else self._file[path].shape[1]
+        ncomp = 1 if path == self.axis else self._file[path].shape[1]
         if len(units) == 1:
             units = units * ncomp
         return units
@@ -193,7 +197,7 @@ class Results:
         """Column names, e.g. ['x', 'y', 'z', 'yaw', 'roll', 'pitch']."""
         path, _ = self._split(channel)
         names = str(self._attr(path, "components", "")).split()
-        if path != "time" and len(names) != self._file[path].shape[1]:
+        if path != self.axis and len(names) != self._file[path].shape[1]:
             names = [f"c{k + 1}" for k in range(self._file[path].shape[1])]
         return names
 
@@ -226,6 +230,7 @@ class Results:
     @property
     def deck_text(self) -> str | None:
         """The full deck the run was made from (``/meta/deck_text``), if stored."""
-        if "meta/deck_text" not in self._file:
-            return None
-        return _text(self._file["meta/deck_text"][()])
+        for name in ("meta/deck_text", "meta/deck"):   # 'deck' was used by early writers
+            if name in self._file:
+                return _text(self._file[name][()])
+        return None

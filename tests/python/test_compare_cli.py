@@ -26,6 +26,7 @@ def test_cli_pass_and_fail(make_results_file, tmp_path):
     ok = run_cli(same, ref)
     assert ok.returncode == 0, ok.stdout + ok.stderr
     assert "2 of 2 channels pass" in ok.stdout
+    assert "RuntimeWarning" not in ok.stderr
 
     bad = run_cli(off, ref, "--rtol", "1e-3", "--plot", tmp_path / "plots")
     assert bad.returncode == 1, bad.stdout + bad.stderr

@@ -25,6 +25,7 @@ program test_hdf5_writer
   call test_two_writers()
   call test_call_order()
   call test_empty_run()
+  call test_other_axis()
 
   if (failures > 0) then
     print '(a, i0, a)', 'test_hdf5_writer: ', failures, ' check(s) FAILED'
@@ -128,6 +129,7 @@ contains
                'pose description')
     call check(string_attr(file, 'track/frames/1/sigma', 'components') == 'sigma', 'default scalar component name')
     call check(string_attr(file, 'time', 'unit') == 's', 'time unit')
+    call check(string_attr(file, '/', 'axis') == 'time', 'default axis is time')
     call check(string_attr(file, '/', 'format') == 'raildyn-results', 'format attribute')
     call check(string_attr(file, '/', 'title') == 'round trip', 'title attribute')
     call check(len(string_attr(file, '/', 'created')) == 25, 'created is ISO 8601 with offset')
@@ -321,6 +323,49 @@ contains
     call h5fclose_f(file, hdferr)
     call delete_file(path)
   end subroutine test_empty_run
+
+  !> A track export samples along sigma [m] instead of time: the axis dataset is named
+  !> by the caller and recorded in the root attribute `axis`.
+  subroutine test_other_axis()
+    type(h5_writer_t) :: w
+    type(error_t), allocatable :: error
+    character(len=:), allocatable :: path
+    integer :: id, k
+    real(wp), allocatable :: sigma(:), data(:, :)
+    integer(hid_t) :: file
+    integer :: hdferr
+    logical :: has_time
+
+    path = tmpfile('axis.h5')
+    call w%open(path, error, axis_name='bad name', axis_unit='m')
+    call check(allocated(error), 'axis name with a space refused')
+    call w%open(path, error, axis_name='sigma', axis_unit='m m')
+    call check(allocated(error), 'axis with two units refused')
+    call w%open(path, error, axis_name='sigma', axis_unit='m', axis_description='arc length')
+    call require_ok(error, 'open with axis sigma')
+    call w%add_series('sigma', 1, 'm', 'clash', id, error)
+    call check(allocated(error), 'series named like the axis refused')
+    call w%add_series('track/curvature', 1, '1/m', 'curvature', id, error, component_names='kappa')
+    call require_ok(error, 'add curvature')
+    do k = 1, 5
+      call w%set(id, [1.0_wp/(100.0_wp*k)], error); call require_ok(error, 'set curvature')
+      call w%end_step(10.0_wp*k, error); call require_ok(error, 'step sigma')
+    end do
+    call w%close('completed', 50.0_wp, 0.0_wp, error); call require_ok(error, 'close axis')
+    call h5fopen_f(path, H5F_ACC_RDONLY_F, file, hdferr)
+    call read_1d(file, 'sigma', sigma)
+    call check(size(sigma) == 5, 'sigma axis has 5 rows')
+    if (size(sigma) == 5) call check(all(sigma == [(10.0_wp*k, k = 1, 5)]), 'sigma axis values')
+    call read_2d(file, 'track/curvature', data)
+    call check(size(data, 2) == 5, 'curvature rows')
+    call check(string_attr(file, 'sigma', 'unit') == 'm', 'axis unit')
+    call check(string_attr(file, 'sigma', 'description') == 'arc length', 'axis description')
+    call check(string_attr(file, '/', 'axis') == 'sigma', 'root attribute axis')
+    call h5lexists_f(file, 'time', has_time, hdferr)
+    call check(.not. has_time, 'no /time when another axis is chosen')
+    call h5fclose_f(file, hdferr)
+    call delete_file(path)
+  end subroutine test_other_axis
 
   ! ----- reading with the HDF5 Fortran API (the oracle) -----
 

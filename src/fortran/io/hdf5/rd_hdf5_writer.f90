@@ -71,6 +71,7 @@ module rd_hdf5_writer
   type :: h5_writer_t
     private
     character(len=:), allocatable :: filename
+    character(len=:), allocatable :: axis_name   !< the common axis dataset ('time')
     integer(hid_t) :: file = -1
     integer(hid_t) :: time_dataset = -1
     integer :: mode = MODE_CLOSED
@@ -114,12 +115,17 @@ contains
   !> Create (or truncate) the results file `path`.
   !> buffer_steps: rows kept in memory per series before one hyperslab write (>= 1);
   !> flush_every: rows between two flushes to disk (>= 1); a killed run keeps all rows
-  !> up to its last flush.
-  subroutine writer_open(self, path, error, buffer_steps, flush_every)
+  !> up to its last flush. axis_name/axis_unit/axis_description: the common axis of all
+  !> series, default '/time' in s; another strictly increasing axis (e.g. 'sigma' in m
+  !> for a track export) is named in the root attribute `axis`.
+  subroutine writer_open(self, path, error, buffer_steps, flush_every, axis_name, axis_unit, &
+                         axis_description)
     class(h5_writer_t), intent(inout) :: self
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(out) :: error
     integer, intent(in), optional :: buffer_steps, flush_every
+    character(len=*), intent(in), optional :: axis_name, axis_unit, axis_description
+    character(len=:), allocatable :: unit, description
     integer :: hdferr
     integer(hid_t) :: fapl, group
 
@@ -139,6 +145,20 @@ contains
     if (self%buffer_steps < 1 .or. self%flush_every < 1) then
       call make_error(error, RD_ERR_INPUT, 'h5_writer%open("' // trim(path) // &
                       '"): buffer_steps and flush_every must be >= 1')
+      return
+    end if
+
+    self%axis_name = 'time'
+    unit = 's'
+    description = 'simulated time of each output step'
+    if (present(axis_name)) self%axis_name = strip_slashes(axis_name)
+    if (present(axis_unit)) unit = trim(adjustl(axis_unit))
+    if (present(axis_description)) description = trim(axis_description)
+    if (len(self%axis_name) == 0 .or. index(self%axis_name, '/') > 0 .or. &
+        index(self%axis_name, ' ') > 0 .or. self%axis_name == 'meta' .or. &
+        count_words(unit) /= 1) then
+      call make_error(error, RD_ERR_INPUT, 'h5_writer%open("' // trim(path) // '"): axis_name ' // &
+                      'must be one word at the root (not "meta") and axis_unit one unit')
       return
     end if
 
@@ -179,11 +199,12 @@ contains
     if (.not. allocated(error)) call h5gclose_f(group, hdferr)
     if (.not. allocated(error)) call create_group(self%file, 'meta/solver', group, error)
     if (.not. allocated(error)) call h5gclose_f(group, hdferr)
-    if (.not. allocated(error)) call create_time_dataset(self, error)
+    if (.not. allocated(error)) call create_axis_dataset(self, unit, description, error)
     if (.not. allocated(error)) call self%set_attribute('/', 'format', RESULTS_FORMAT, error)
     if (.not. allocated(error)) &
       call self%set_attribute('/', 'format_version', RESULTS_FORMAT_VERSION, error)
     if (.not. allocated(error)) call self%set_attribute('/', 'created', iso_timestamp(), error)
+    if (.not. allocated(error)) call self%set_attribute('/', 'axis', self%axis_name, error)
     if (.not. allocated(error)) call self%set_attribute('meta', 'status', 'running', error)
     if (allocated(error)) then
       call self%release_handles()
@@ -216,7 +237,7 @@ contains
     name = strip_slashes(path)
     call check_define(self, 'add_series("' // name // '")', error)
     if (allocated(error)) return
-    if (len(name) == 0 .or. name == 'time') then
+    if (len(name) == 0 .or. name == self%axis_name) then
       call make_error(error, RD_ERR_INPUT, 'h5_writer%add_series: invalid series path "' // &
                       trim(path) // '"; expected a name like "bodies/ws1/position_track"')
       return
@@ -445,8 +466,8 @@ contains
     end associate
   end subroutine writer_set
 
-  !> Close the current step at simulated `time` [s] (finite, increasing): every series must
-  !> have been set. Writes the buffers when full and flushes every `flush_every` steps.
+  !> Close the current step at simulated `time` [s] (or the value of the axis chosen at
+  !> open; finite, strictly increasing): every series must have been set. Writes the buffers when full and flushes every `flush_every` steps.
   subroutine writer_end_step(self, time, error)
     class(h5_writer_t), intent(inout) :: self
     real(wp), intent(in) :: time
@@ -650,7 +671,7 @@ contains
     call append_rows(self%time_dataset, 0_hsize_t, int(self%nwritten, hsize_t), nnew, &
                      c_loc(self%time_buffer), hdferr)
     if (hdferr < 0) then
-      call io_error(error, self%filename, 'cannot append to "/time"')
+      call io_error(error, self%filename, 'cannot append to "/' // self%axis_name // '"')
       return
     end if
     self%nwritten = self%nwritten + self%nbuffered
@@ -725,8 +746,9 @@ contains
     self%mode = MODE_CLOSED
   end subroutine release_handles
 
-  subroutine create_time_dataset(self, error)
+  subroutine create_axis_dataset(self, unit, description, error)
     type(h5_writer_t), intent(inout) :: self
+    character(len=*), intent(in) :: unit, description
     type(error_t), allocatable, intent(out) :: error
     integer(hid_t) :: space, dcpl
     integer(hsize_t) :: dims(1), maxdims(1), chunk(1)
@@ -741,21 +763,21 @@ contains
     call h5pcreate_f(H5P_DATASET_CREATE_F, dcpl, hdferr)
     call h5pset_chunk_f(dcpl, 1, chunk, hdferr)
     call h5pset_fill_value_f(dcpl, H5T_NATIVE_DOUBLE, c_loc(fill), hdferr)
-    call h5dcreate_f(self%file, 'time', H5T_NATIVE_DOUBLE, space, self%time_dataset, hdferr, &
-                     dcpl_id=dcpl)
+    call h5dcreate_f(self%file, self%axis_name, H5T_NATIVE_DOUBLE, space, self%time_dataset, &
+                     hdferr, dcpl_id=dcpl)
     call h5pclose_f(dcpl, hdferr)
     call h5sclose_f(space, hdferr)
     if (self%time_dataset < 0) then
       self%time_dataset = -1
-      call io_error(error, self%filename, 'cannot create "/time"')
+      call io_error(error, self%filename, 'cannot create "/' // self%axis_name // '"')
       return
     end if
-    call write_string_attribute(self%time_dataset, 'unit', 's', error)
+    call write_string_attribute(self%time_dataset, 'unit', unit, error)
     if (.not. allocated(error)) call write_string_attribute(self%time_dataset, 'description', &
-                                                            'simulated time of each output step', error)
+                                                            description, error)
     if (.not. allocated(error)) call write_string_attribute(self%time_dataset, 'components', &
-                                                            'time', error)
-  end subroutine create_time_dataset
+                                                            self%axis_name, error)
+  end subroutine create_axis_dataset
 
   subroutine check_define(self, what, error)
     type(h5_writer_t), intent(in) :: self

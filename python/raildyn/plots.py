@@ -1,0 +1,128 @@
+"""Quick-look plots of results files (matplotlib, Agg backend: no display needed).
+
+    python -m raildyn.plots track    track.h5  track.png      # alignment from `raildyn track`
+    python -m raildyn.plots channels run.h5    run.png  [CHANNEL ...]
+
+``track``: plan view (Y over X, equal axes, from the series ``track/position``) and every
+other ``track/...`` series over the file's axis (sigma). ``channels``: the given series or
+'path:component' columns (default all) over the axis, one panel each.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from typing import Iterable
+
+from .results import Results
+
+__all__ = ["plot_channels", "plot_track", "main"]
+
+_MAX_PANELS = 24
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _axis_label(r: Results) -> str:
+    return f"{r.axis} [{r.unit(r.axis)}]"
+
+
+def _plot_series(ax, r: Results, channel: str) -> None:
+    data = r.get(channel)
+    names = r.components(channel) if data.ndim == 2 else [channel.rsplit(":", 1)[-1]]
+    units = r.units(channel) if data.ndim == 2 else [r.unit(channel)]
+    data = data.reshape(len(r.time), -1)
+    for k in range(data.shape[1]):
+        ax.plot(r.time, data[:, k], label=f"{names[k]} [{units[k]}]")
+    ax.set_ylabel(channel.split(":")[0].rsplit("/", 1)[-1])
+    ax.set_title(channel, fontsize=8)
+    ax.grid(True, alpha=0.3)
+    if data.shape[1] > 1 or units[0]:
+        ax.legend(fontsize=7, loc="best")
+
+
+def plot_channels(path: str | os.PathLike, out: str | os.PathLike,
+                  channels: Iterable[str] | None = None) -> str:
+    """One panel per channel over the file's axis; returns the image path."""
+    plt = _pyplot()
+    with Results(path) as r:
+        chans = list(channels) if channels else r.channels()
+        if not chans:
+            raise ValueError(f"{path}: no series to plot")
+        chans = chans[:_MAX_PANELS]
+        fig, axes = plt.subplots(len(chans), 1, sharex=True, figsize=(9, 2.2 * len(chans) + 0.8),
+                                 squeeze=False)
+        for ax, ch in zip(axes[:, 0], chans):
+            _plot_series(ax, r, ch)
+        axes[-1, 0].set_xlabel(_axis_label(r))
+        fig.suptitle(f"{os.path.basename(os.fspath(path))} ({r.status})", fontsize=9)
+        fig.tight_layout()
+        fig.savefig(out, dpi=90)
+        plt.close(fig)
+    return os.fspath(out)
+
+
+def plot_track(path: str | os.PathLike, out: str | os.PathLike) -> str:
+    """Plan view of ``track/position`` plus every other ``track/...`` series."""
+    plt = _pyplot()
+    with Results(path) as r:
+        track = [c for c in r.channels() if c.startswith("track/")] or r.channels()
+        others = [c for c in track if c != "track/position"][:_MAX_PANELS]
+        has_plan = "track/position" in track
+        n = len(others) + (1 if has_plan else 0)
+        if n == 0:
+            raise ValueError(f"{path}: no track series to plot")
+        fig, axes = plt.subplots(n, 1, figsize=(9, 2.2 * n + (2.5 if has_plan else 0.8)),
+                                 squeeze=False)
+        axes = list(axes[:, 0])
+        if has_plan:
+            ax = axes.pop(0)
+            xyz = r.get("track/position")
+            ax.plot(xyz[:, 0], xyz[:, 1], "k-")
+            ax.set_aspect("equal", adjustable="datalim")
+            ax.set_xlabel("X [m]")
+            ax.set_ylabel("Y [m] (left)")
+            ax.set_title("plan view (fixed frame)", fontsize=8)
+            ax.grid(True, alpha=0.3)
+        for ax, ch in zip(axes, others):
+            _plot_series(ax, r, ch)
+        if axes:
+            axes[-1].set_xlabel(_axis_label(r))
+        fig.tight_layout()
+        fig.savefig(out, dpi=90)
+        plt.close(fig)
+    return os.fspath(out)
+
+
+def main(argv: list[str] | None = None) -> int:
+    import argparse
+    parser = argparse.ArgumentParser(prog="python -m raildyn.plots",
+                                     description="Quick-look plots of raildyn results files.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    p_track = sub.add_parser("track", help="track alignment (from `raildyn track`)")
+    p_track.add_argument("file")
+    p_track.add_argument("out")
+    p_chan = sub.add_parser("channels", help="series over the file's axis")
+    p_chan.add_argument("file")
+    p_chan.add_argument("out")
+    p_chan.add_argument("channels", nargs="*")
+    args = parser.parse_args(argv)
+    try:
+        if args.command == "track":
+            written = plot_track(args.file, args.out)
+        else:
+            written = plot_channels(args.file, args.out, args.channels or None)
+    except (OSError, ValueError, KeyError) as exc:
+        print(f"raildyn.plots: {exc}", file=sys.stderr)
+        return 1
+    print(written)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
