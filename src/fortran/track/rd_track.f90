@@ -103,7 +103,7 @@ contains
     end if
     if (settings%gauge <= 0 .or. settings%cant_base <= 0) then
       call make_error(error, RD_ERR_INPUT, where // ': gauge and cant_base must be > 0 m, got ' // &
-                      num(settings%gauge) // ' and ' // num(settings%cant_base))
+                      trim(num(settings%gauge)) // ' and ' // trim(num(settings%cant_base)))
       return
     end if
     call check_cant(settings%start_superelevation, settings%gauge, settings%cant_base, where, &
@@ -126,7 +126,7 @@ contains
     s = 0
     do i = 1, n
       where = trim(specs(i)%origin)
-      if (len(where) == 0) where = 'segment ' // itoa(i)
+      if (len(where) == 0) where = 'segment ' // trim(itoa(i))
       where = where // ' (' // trim(specs(i)%kind) // ')'
       call validate_spec(specs(i), settings, k_prev, h_prev, g_prev, where, k1, h1, g1, error)
       if (allocated(error)) return
@@ -186,7 +186,7 @@ contains
       return
     end if
     if (spec%length <= 0) then
-      call make_error(error, RD_ERR_INPUT, where // ': length must be > 0 m, got ' // num(spec%length))
+      call make_error(error, RD_ERR_INPUT, where // ': length must be > 0 m, got ' // trim(num(spec%length)))
       return
     end if
     select case (trim(spec%cant_ramp))
@@ -201,7 +201,7 @@ contains
     case ('straight')
       if (spec%curvature_end /= 0) then
         call make_error(error, RD_ERR_INPUT, where // ': a straight has zero curvature, got curvature_end = ' // &
-                        num(spec%curvature_end) // ' 1/m (use a curve or a clothoid)')
+                        trim(num(spec%curvature_end)) // ' 1/m (use a curve or a clothoid)')
         return
       end if
       k1 = 0
@@ -226,9 +226,9 @@ contains
 
     h1 = spec%superelevation_end
     if (trim(spec%kind) /= 'clothoid' .and. abs(h1 - h_prev) > 1.0e-12_wp) then
-      call make_error(error, RD_ERR_INPUT, where // ': superelevation changes from ' // num(h_prev) // &
-                      ' m to ' // num(h1) // ' m on a ' // trim(spec%kind) // &
-                      ': only a clothoid can ramp the cant (set superelevation_end = ' // num(h_prev) // ')')
+      call make_error(error, RD_ERR_INPUT, where // ': superelevation changes from ' // trim(num(h_prev)) // &
+                      ' m to ' // trim(num(h1)) // ' m on a ' // trim(spec%kind) // &
+                      ': only a clothoid can ramp the cant (set superelevation_end = ' // trim(num(h_prev)) // ')')
       return
     end if
     if (trim(spec%kind) /= 'clothoid') h1 = h_prev
@@ -247,9 +247,9 @@ contains
     character(len=*), intent(in) :: where, name
     type(error_t), allocatable, intent(out) :: error
     if (abs(h) >= cant_base .or. abs(h) > gauge) then
-      call make_error(error, RD_ERR_INPUT, where // ': ' // name // ' = ' // num(h) // &
+      call make_error(error, RD_ERR_INPUT, where // ': ' // name // ' = ' // trim(num(h)) // &
                       ' m: cant larger than the gauge (need |superelevation| < cant_base = ' // &
-                      num(cant_base) // ' m and <= gauge = ' // num(gauge) // ' m)')
+                      trim(num(cant_base)) // ' m and <= gauge = ' // trim(num(gauge)) // ' m)')
     end if
   end subroutine check_cant
 
@@ -257,37 +257,55 @@ contains
     real(wp), intent(in) :: k0, k1
     character(len=*), intent(in) :: kind, where
     type(error_t), allocatable, intent(out) :: error
-    call make_error(error, RD_ERR_INPUT, where // ': curvature jumps from ' // curvature_text(k0) // &
-                    ' to ' // curvature_text(k1) // ' at the start of this ' // kind // &
+    call make_error(error, RD_ERR_INPUT, where // ': curvature jumps from ' // trim(curvature_text(k0)) // &
+                    ' to ' // trim(curvature_text(k1)) // ' at the start of this ' // kind // &
                     ': a transition (clothoid) of non-zero length is needed')
   end subroutine curvature_jump_error
 
   !> "1/R1" text of a signed curvature: "1/150 m (left)", "0 (straight)".
-  function curvature_text(k) result(text)
+  pure function curvature_text(k) result(text)
     real(wp), intent(in) :: k
-    character(len=:), allocatable :: text
+    character(len=48) :: text
     if (k == 0) then
       text = '0 (straight)'
     else
-      text = '1/' // num(1 / abs(k)) // ' m (' // merge('left ', 'right', k > 0)
-      text = trim(text) // ')'
+      text = '1/' // trim(num(1 / abs(k))) // ' m (' // trim(merge('left ', 'right', k > 0)) // ')'
     end if
   end function curvature_text
 
-  function num(x) result(text)
+  !> Real as text for messages: plain decimal with trailing zeros removed (0.002, 150,
+  !> -0.12) or scientific for very small/large magnitudes (fixed-length result, see itoa).
+  pure function num(x) result(text)
     real(wp), intent(in) :: x
-    character(len=:), allocatable :: text
-    character(len=32) :: buffer
-    write (buffer, '(g0.6)') x
-    text = trim(adjustl(buffer))
+    character(len=24) :: text
+    integer :: last
+    if (x == 0) then
+      text = '0'
+    else if (abs(x) >= 1.0e-4_wp .and. abs(x) < 1.0e7_wp) then
+      write (text, '(f0.6)') x
+      last = len_trim(text)
+      do while (text(last:last) == '0')
+        text(last:last) = ' '
+        last = last - 1
+      end do
+      if (text(last:last) == '.') text(last:last) = ' '
+      if (text(1:1) == '.') then
+        text = '0' // text
+      else if (text(1:2) == '-.') then
+        text = '-0' // text(2:)
+      end if
+    else
+      write (text, '(es12.5)') x
+      text = adjustl(text)
+    end if
   end function num
 
-  function itoa(i) result(text)
+  !> Integer as text (fixed-length result: gfortran 12 mishandles two deferred-length
+  !> function results in one expression).
+  pure function itoa(i) result(text)
     integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write (buffer, '(i0)') i
-    text = trim(buffer)
+    character(len=12) :: text
+    write (text, '(i0)') i
   end function itoa
 
   !> Track frame at local coordinate u of one segment.
