@@ -25,6 +25,10 @@ module rd_test_support
   type, extends(track_geometry_t) :: canted_circle_t
     real(wp) :: kappa = 0
     real(wp) :: cant = 0
+    !> optional smooth cant variation phi_t = cant + cant_amplitude sin(sigma / cant_wavelength)
+    !> (exercises the frame's roll rate w_x and dw/dsigma with no discontinuity)
+    real(wp) :: cant_amplitude = 0
+    real(wp) :: cant_scale = 1
   contains
     procedure :: evaluate => circle_evaluate
     procedure :: length => circle_length
@@ -58,8 +62,11 @@ contains
     class(canted_circle_t), intent(in) :: self
     real(wp), intent(in) :: sigma
     type(track_point_t) :: p
-    real(wp) :: psi, k
+    real(wp) :: psi, k, ph, dph, d2ph
     k = self%kappa
+    ph = self%cant + self%cant_amplitude * sin(sigma / self%cant_scale)
+    dph = self%cant_amplitude * cos(sigma / self%cant_scale) / self%cant_scale
+    d2ph = -self%cant_amplitude * sin(sigma / self%cant_scale) / self%cant_scale**2
     psi = k * sigma
     p%sigma = sigma
     if (abs(k) > 0) then
@@ -69,15 +76,16 @@ contains
     end if
     p%dr = [cos(psi), sin(psi), 0.0_wp]
     p%d2r = k * [-sin(psi), cos(psi), 0.0_wp]
-    p%a = matmul(rot_z(psi), rot_x(self%cant))
-    p%omega = k * [0.0_wp, sin(self%cant), cos(self%cant)]
-    p%domega = 0
+    p%a = matmul(rot_z(psi), rot_x(ph))
+    ! A^T dA/dsigma = Rx^T skew(kappa e_z) Rx + skew(dph e_x)
+    p%omega = [dph, k * sin(ph), k * cos(ph)]
+    p%domega = [d2ph, k * cos(ph) * dph, -k * sin(ph) * dph]
     p%da = matmul(p%a, skew(p%omega))
-    p%d2a = matmul(p%a, matmul(skew(p%omega), skew(p%omega)))
+    p%d2a = matmul(p%a, matmul(skew(p%omega), skew(p%omega)) + skew(p%domega))
     p%heading = psi
-    p%cant_angle = self%cant
+    p%cant_angle = ph
     p%curvature = k
-    p%superelevation = 1.5_wp * sin(self%cant)
+    p%superelevation = 1.5_wp * sin(ph)
   end function circle_evaluate
 
   !> B = Rz(psi) Rx(phi) Ry(theta), written here from the elementary rotations.
