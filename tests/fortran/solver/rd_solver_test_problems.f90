@@ -9,7 +9,7 @@ module rd_solver_test_problems
   private
   public :: oscillator_t, decay_t, stiff_cosine_t, stiff_pair_t, failing_t
   public :: stiff_pair_jacobian, check, report
-  public :: FAIL_FATAL, FAIL_NAN, FAIL_RECOVERABLE_ALWAYS
+  public :: FAIL_FATAL, FAIL_NAN, FAIL_RECOVERABLE_ALWAYS, FAIL_RECOVERABLE_FEW
 
   !> x'' = -omega^2 x as y = (x, v): x(t) = x0 cos(wt) + v0/w sin(wt).
   type, extends(ode_system_t) :: oscillator_t
@@ -53,11 +53,13 @@ module rd_solver_test_problems
   integer, parameter :: FAIL_FATAL = 1               !< unrecoverable error for t >= t_fail
   integer, parameter :: FAIL_NAN = 2                 !< NaN derivative for t >= t_fail
   integer, parameter :: FAIL_RECOVERABLE_ALWAYS = 3  !< recoverable error on every call
+  integer, parameter :: FAIL_RECOVERABLE_FEW = 4     !< recoverable error on the first 3 calls with t >= t_fail
 
   !> y' = -y that fails in the chosen way.
   type, extends(ode_system_t) :: failing_t
     integer :: mode = FAIL_FATAL
     real(wp) :: t_fail = 0.5_wp
+    integer :: failures = 0   !< failures produced so far
   contains
     procedure :: rhs => failing_rhs
     procedure :: state_size => one_fail
@@ -204,7 +206,14 @@ contains
       if (t >= self%t_fail) ydot(1) = ieee_value(1.0_wp, ieee_quiet_nan)
     case (FAIL_RECOVERABLE_ALWAYS)
       recoverable = .true.
+      self%failures = self%failures + 1
       call make_error(error, RD_ERR_RUNTIME, 'contact search out of range (test message)')
+    case (FAIL_RECOVERABLE_FEW)
+      if (t >= self%t_fail .and. self%failures < 3) then
+        recoverable = .true.
+        self%failures = self%failures + 1
+        call make_error(error, RD_ERR_RUNTIME, 'contact search out of range (test message)')
+      end if
     end select
   end subroutine failing_rhs
 
