@@ -1,0 +1,236 @@
+!> Sub-commands of the `raildyn` executable: argument parsing, progress, exit codes.
+!> The physics lives in the library; this module only drives it and reports.
+module rd_runner_commands
+  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
+  use, intrinsic :: iso_c_binding, only: c_int
+  use rd_kinds, only: wp
+  use rd_error, only: error_t, RD_ERR_INPUT
+  use rd_scene, only: scene_t, raildyn_version
+  use rd_cmd_hertz, only: run_hertz_command
+  use rd_cmd_creep, only: run_creep_command
+  use rd_cmd_profile_scan, only: run_profile_scan_command
+  use rd_track_export, only: export_track
+  implicit none
+  private
+  public :: run_command
+
+  interface
+    function rd_stderr_is_terminal() result(yes) bind(C, name='rd_stderr_is_terminal')
+      import :: c_int
+      integer(c_int) :: yes
+    end function rd_stderr_is_terminal
+  end interface
+
+  character(len=*), parameter :: usage = &
+    'usage: raildyn run DECK [-o OUT.h5] [--progress|--quiet] | check DECK | ' // &
+    'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | ' // &
+    'hertz ... | creep ... | version | help'
+
+contains
+
+  subroutine run_command(args, status)
+    character(len=*), intent(in) :: args(:)
+    integer, intent(out) :: status
+    if (size(args) == 0) then
+      write (error_unit, '(a)') usage
+      status = 1
+      return
+    end if
+    select case (trim(args(1)))
+    case ('run')
+      call command_run(args(2:), status)
+    case ('check')
+      call command_check(args(2:), status)
+    case ('track')
+      call command_track(args(2:), status)
+    case ('profile-scan')
+      call run_profile_scan_command(args(2:), status)
+    case ('hertz')
+      call run_hertz_command(args(2:), status)
+    case ('creep')
+      call run_creep_command(args(2:), status)
+    case ('version', '--version')
+      write (output_unit, '(2a)') 'raildyn ', raildyn_version
+      status = 0
+    case ('help', '--help', '-h')
+      write (output_unit, '(a)') usage
+      status = 0
+    case default
+      write (error_unit, '(3a)') "raildyn: unknown command '", trim(args(1)), "'"
+      write (error_unit, '(a)') usage
+      status = 1
+    end select
+  end subroutine run_command
+
+  !> Print an error as one line and return its class as exit status.
+  subroutine report(error, status)
+    type(error_t), intent(in) :: error
+    integer, intent(out) :: status
+    write (error_unit, '(2a)') 'raildyn: error: ', error%message
+    status = error%code
+  end subroutine report
+
+  subroutine usage_error(message, status)
+    character(len=*), intent(in) :: message
+    integer, intent(out) :: status
+    write (error_unit, '(2a)') 'raildyn: ', message
+    write (error_unit, '(a)') usage
+    status = 1
+  end subroutine usage_error
+
+  !> Split args into one positional deck and options; -o/--output, --step, --csv, --plot take values.
+  subroutine parse_deck_args(args, deck, output, step, csv, plot, progress, status)
+    character(len=*), intent(in) :: args(:)
+    character(len=:), allocatable, intent(out) :: deck, output, csv, plot
+    real(wp), intent(out) :: step
+    integer, intent(out) :: progress   !< -1 quiet, 0 auto, 1 forced
+    integer, intent(out) :: status
+    integer :: i, ios
+    deck = ''; output = ''; csv = ''; plot = ''; step = 0; progress = 0; status = 0
+    i = 1
+    do while (i <= size(args))
+      select case (trim(args(i)))
+      case ('-o', '--output', '--step', '--csv', '--plot')
+        if (i == size(args)) then
+          call usage_error('option ' // trim(args(i)) // ' needs a value', status)
+          return
+        end if
+        select case (trim(args(i)))
+        case ('-o', '--output'); output = trim(args(i + 1))
+        case ('--csv'); csv = trim(args(i + 1))
+        case ('--plot'); plot = trim(args(i + 1))
+        case ('--step')
+          read (args(i + 1), *, iostat=ios) step
+          if (ios /= 0 .or. .not. (step > 0)) then
+            call usage_error('--step expects a positive length in metres, got ' // trim(args(i + 1)), status)
+            return
+          end if
+        end select
+        i = i + 2
+      case ('--progress')
+        progress = 1; i = i + 1
+      case ('--quiet', '-q')
+        progress = -1; i = i + 1
+      case default
+        if (args(i)(1:1) == '-') then
+          call usage_error("unknown option '" // trim(args(i)) // "'", status)
+          return
+        end if
+        if (len(deck) > 0) then
+          call usage_error("more than one deck given ('" // deck // "', '" // trim(args(i)) // "')", status)
+          return
+        end if
+        deck = trim(args(i)); i = i + 1
+      end select
+    end do
+    if (len(deck) == 0) call usage_error('no deck given', status)
+  end subroutine parse_deck_args
+
+  subroutine command_check(args, status)
+    character(len=*), intent(in) :: args(:)
+    integer, intent(out) :: status
+    character(len=:), allocatable :: deck, output, csv, plot
+    real(wp) :: step
+    integer :: progress
+    type(scene_t) :: scene
+    type(error_t), allocatable :: error
+    call parse_deck_args(args, deck, output, step, csv, plot, progress, status)
+    if (status /= 0) return
+    call scene%load_file(deck, error)
+    if (.not. allocated(error)) call scene%build(error)
+    if (allocated(error)) then
+      call report(error, status)
+      return
+    end if
+    write (output_unit, '(3a)') 'raildyn: ', deck, ': ok (' // scene%summary() // ')'
+    status = 0
+  end subroutine command_check
+
+  subroutine command_run(args, status)
+    character(len=*), intent(in) :: args(:)
+    integer, intent(out) :: status
+    character(len=:), allocatable :: deck, output, csv, plot
+    real(wp) :: step, t_end, t_next, chunk
+    integer :: progress
+    logical :: show
+    type(scene_t) :: scene
+    type(error_t), allocatable :: error
+    integer(int64) :: clock0, clock, rate, last_report
+    call parse_deck_args(args, deck, output, step, csv, plot, progress, status)
+    if (status /= 0) return
+    call scene%load_file(deck, error)
+    if (.not. allocated(error) .and. len(output) > 0) call scene%set_output_file(output)
+    if (.not. allocated(error)) call scene%initialize(.true., error)
+    if (allocated(error)) then
+      call report(error, status)
+      return
+    end if
+    show = progress == 1 .or. (progress == 0 .and. scene%progress_wanted() .and. &
+                               rd_stderr_is_terminal() /= 0)
+    t_end = scene%end_time()
+    ! Advance in chunks so that progress can be shown; the solution does not depend on
+    ! the chunking (the integrators stop exactly at each chunk end, tested).
+    chunk = max(t_end / 200.0_wp, scene%output_interval())
+    call system_clock(clock0, rate)
+    last_report = clock0
+    do while (scene%time() < t_end)
+      t_next = min(scene%time() + chunk, t_end)
+      call scene%advance(t_next, error)
+      if (allocated(error)) exit
+      call system_clock(clock)
+      if (show .and. (clock - last_report) * 2 > rate) then
+        call print_progress(scene%time(), t_end, real(clock - clock0, wp) / rate)
+        last_report = clock
+      end if
+    end do
+    if (show) write (error_unit, '(a)') ''
+    if (allocated(error)) then
+      call scene%finalize_after_failure(error)
+      call report(error, status)
+      return
+    end if
+    call scene%finalize(error)
+    if (allocated(error)) then
+      call report(error, status)
+      return
+    end if
+    if (progress >= 0) write (output_unit, '(a)') 'raildyn: ' // scene%completion_summary()
+    status = 0
+  end subroutine command_run
+
+  subroutine print_progress(t, t_end, wall)
+    real(wp), intent(in) :: t, t_end, wall
+    character(len=120) :: line
+    real(wp) :: speed
+    speed = 0
+    if (wall > 0) speed = t / wall
+    write (line, '(a,f10.3,a,f10.3,a,f6.1,a,es9.2,a)') 't = ', t, ' s / ', t_end, ' s (', &
+      100 * t / max(t_end, tiny(t_end)), '%), ', speed, ' x real time'
+    write (error_unit, '(a,a)', advance='no') achar(13), trim(line)
+    flush (error_unit)
+  end subroutine print_progress
+
+  subroutine command_track(args, status)
+    character(len=*), intent(in) :: args(:)
+    integer, intent(out) :: status
+    character(len=:), allocatable :: deck, output, csv, plot
+    real(wp) :: step
+    integer :: progress
+    type(scene_t) :: scene
+    type(error_t), allocatable :: error
+    call parse_deck_args(args, deck, output, step, csv, plot, progress, status)
+    if (status /= 0) return
+    call scene%load_file(deck, error)
+    if (.not. allocated(error)) call scene%build(error)
+    if (.not. allocated(error)) then
+      if (len(output) == 0) output = scene%default_output_file('_track.h5')
+      call export_track(scene, output, csv, plot, step, error)
+    end if
+    if (allocated(error)) then
+      call report(error, status)
+      return
+    end if
+    if (progress >= 0) write (output_unit, '(2a)') 'raildyn: track alignment written to ', output
+    status = 0
+  end subroutine command_track
+end module rd_runner_commands

@@ -1,0 +1,496 @@
+!> A scene: everything one deck describes, built, stepped and written.
+!>
+!> Life cycle (the C API and the runner follow it):
+!>   load_file / load_string -> build (validate everything, no file touched)
+!>   -> initialize (initial state, open the output, write step 0)
+!>   -> advance(t) ... -> finalize (close the output with the run's metadata).
+!> A failure at any stage returns an error; output written so far stays readable
+!> (finalize_after_failure records the failure in the file's metadata).
+module rd_scene
+  use, intrinsic :: iso_fortran_env, only: int64
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use rd_kinds, only: wp, i8
+  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_HANDLE, &
+                      RD_ERR_RUNTIME
+  use rd_deck, only: deck_t, read_deck_file, read_deck_string
+  use rd_track_point, only: track_geometry_t, track_point_t
+  use rd_speed_law, only: speed_law_t, constant_speed, table_speed
+  use rd_hdf5_writer, only: h5_writer_t
+  use rd_output_set, only: output_set_t
+  use rd_scene_track, only: build_scene_track
+  implicit none
+  private
+  public :: scene_t, raildyn_version
+
+  character(len=*), parameter :: raildyn_version = '0.1.0'
+
+  type :: scene_t
+    private
+    type(deck_t) :: deck
+    logical :: loaded = .false.
+    logical :: built = .false.
+    logical :: initialized = .false.
+    logical :: writing = .false.
+    character(len=:), allocatable :: output_override
+    class(track_geometry_t), allocatable, public :: track
+    type(speed_law_t) :: speed
+    real(wp) :: t = 0
+    real(wp) :: t_end = 0
+    real(wp) :: interval = 0
+    real(wp) :: start_sigma = 0
+    integer(i8) :: output_steps = 0      !< output steps written; next one at output_steps*interval
+    real(wp), allocatable :: frame_offsets(:)   !< track frames at sigma_vehicle + offset
+    type(output_set_t) :: outputs
+    type(h5_writer_t) :: writer
+    integer, allocatable :: series(:)    !< writer series id of each output channel
+    integer(int64) :: clock_start = 0
+  contains
+    procedure :: load_file => scene_load_file
+    procedure :: load_string => scene_load_string
+    procedure :: build => scene_build
+    procedure :: initialize => scene_initialize
+    procedure :: advance => scene_advance
+    procedure :: finalize => scene_finalize
+    procedure :: finalize_after_failure => scene_finalize_after_failure
+    procedure :: set_output_file => scene_set_output_file
+    procedure :: time => scene_time
+    procedure :: end_time => scene_end_time
+    procedure :: output_interval => scene_output_interval
+    procedure :: progress_wanted => scene_progress_wanted
+    procedure :: state_size => scene_state_size
+    procedure :: get_state => scene_get_state
+    procedure :: output_count => scene_output_count
+    procedure :: output_name => scene_output_name
+    procedure :: output_size => scene_output_size
+    procedure :: get_output => scene_get_output
+    procedure :: set_input => scene_set_input
+    procedure :: summary => scene_summary
+    procedure :: completion_summary => scene_completion_summary
+    procedure :: default_output_file => scene_default_output_file
+    procedure :: vehicle_sigma => scene_vehicle_sigma
+    procedure, private :: refresh_outputs
+    procedure, private :: write_step
+    procedure, private :: register_outputs
+  end type scene_t
+
+contains
+
+  ! ------------------------------------------------------------------ loading
+  subroutine scene_load_file(self, path, error)
+    class(scene_t), intent(inout) :: self
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(out) :: error
+    call read_deck_file(self%deck, path, error)
+    self%loaded = .not. allocated(error)
+  end subroutine scene_load_file
+
+  subroutine scene_load_string(self, text, base_dir, error)
+    class(scene_t), intent(inout) :: self
+    character(len=*), intent(in) :: text, base_dir
+    type(error_t), allocatable, intent(out) :: error
+    call read_deck_string(self%deck, text, base_dir, '<string>', error)
+    self%loaded = .not. allocated(error)
+  end subroutine scene_load_string
+
+  !> Override the deck's &output file (runner -o).
+  subroutine scene_set_output_file(self, path)
+    class(scene_t), intent(inout) :: self
+    character(len=*), intent(in) :: path
+    self%output_override = path
+  end subroutine scene_set_output_file
+
+  ! ------------------------------------------------------------------ building
+  !> Build every model of the scene from the deck. All input errors surface here,
+  !> before any file is written (raildyn check stops after this).
+  subroutine scene_build(self, error)
+    class(scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: error
+    real(wp), allocatable :: times(:), speeds(:)
+    real(wp) :: v
+    if (.not. self%loaded) then
+      call make_error(error, RD_ERR_HANDLE, 'scene: no deck loaded')
+      return
+    end if
+    if (self%built) return
+
+    call self%deck%get('simulation', 1, 't_end', self%t_end, error)
+    if (allocated(error)) return
+    call self%deck%get('simulation', 1, 'start_sigma', self%start_sigma, error)
+    if (allocated(error)) return
+    call self%deck%get('output', 1, 'interval', self%interval, error)
+    if (allocated(error)) return
+
+    if (self%deck%given('simulation', 1, 'speed_times')) then
+      call self%deck%get('simulation', 1, 'speed_times', times, error)
+      if (allocated(error)) return
+      call self%deck%get('simulation', 1, 'speed_values', speeds, error)
+      if (allocated(error)) return
+      call table_speed(self%speed, times, speeds, error)
+      if (allocated(error)) then
+        call error_context(error, self%deck%origin('simulation', 1, 'speed_times'))
+        return
+      end if
+    else
+      call self%deck%get('simulation', 1, 'speed', v, error)
+      if (allocated(error)) return
+      self%speed = constant_speed(v)
+    end if
+
+    call build_scene_track(self%deck, self%track, error)
+    if (allocated(error)) return
+
+    ! Without bodies the scene follows the vehicle reference point only.
+    allocate (self%frame_offsets(1))
+    self%frame_offsets = 0
+
+    call self%register_outputs()
+    self%built = .true.
+  end subroutine scene_build
+
+  subroutine register_outputs(self)
+    class(scene_t), intent(inout) :: self
+    integer :: k, id
+    character(len=16) :: tag
+    call self%outputs%clear()
+    call self%outputs%add('vehicle/speed', 1, 'm/s', 'running speed V', 'V', id)
+    call self%outputs%add('vehicle/distance', 1, 'm', &
+                          'arc length sigma of the vehicle reference point', 'sigma', id)
+    do k = 1, size(self%frame_offsets)
+      write (tag, '(i0)') k
+      associate (p => 'track/frames/' // trim(tag) // '/')
+        call self%outputs%add(p // 'sigma', 1, 'm', 'arc length of the track frame', 'sigma', id)
+        call self%outputs%add(p // 'position', 3, 'm', &
+                              'track frame origin in the fixed frame', 'X Y Z', id)
+        call self%outputs%add(p // 'angles', 3, 'rad', &
+                              'heading, pitch (-atan gradient) and cant angle of the track frame', &
+                              'heading pitch cant', id)
+        call self%outputs%add(p // 'curvature', 1, '1/m', &
+                              'horizontal curvature, > 0 for a left-hand curve', 'kappa', id)
+        call self%outputs%add(p // 'superelevation', 1, 'm', &
+                              'left rail over right rail', 'h', id)
+        call self%outputs%add(p // 'angular_velocity', 3, 'rad/s', &
+                              'angular velocity of the moving track frame, track components', &
+                              'wx wy wz', id)
+      end associate
+    end do
+  end subroutine register_outputs
+
+  ! ------------------------------------------------------------------ running
+  subroutine scene_initialize(self, write_output, error)
+    class(scene_t), intent(inout) :: self
+    logical, intent(in) :: write_output
+    type(error_t), allocatable, intent(out) :: error
+    character(len=:), allocatable :: path, title
+    integer :: i, flush_every
+    if (self%initialized) then
+      call make_error(error, RD_ERR_HANDLE, 'scene: already initialized')
+      return
+    end if
+    call self%build(error)
+    if (allocated(error)) return
+    call system_clock(self%clock_start)
+    self%t = 0
+    self%output_steps = 0
+
+    if (write_output) then
+      if (allocated(self%output_override)) then
+        path = self%output_override
+      else
+        path = self%deck%path('output', 1, 'file')
+      end if
+      call self%deck%get('output', 1, 'flush_every', flush_every, error)
+      if (allocated(error)) return
+      call self%writer%open(path, error, flush_every=flush_every)
+      if (allocated(error)) return
+      self%writing = .true.
+      call self%writer%write_text('meta/deck_text', self%deck%text(), error)
+      if (allocated(error)) return
+      call self%deck%get('simulation', 1, 'title', title, error)
+      if (allocated(error)) return
+      call self%writer%set_attribute('/', 'raildyn_version', raildyn_version, error)
+      if (.not. allocated(error)) call self%writer%set_attribute('/', 'title', title, error)
+      if (.not. allocated(error)) call self%writer%set_attribute('/', 'deck_file', self%deck%file_name(), error)
+      if (allocated(error)) return
+      allocate (self%series(self%outputs%n))
+      do i = 1, self%outputs%n
+        associate (c => self%outputs%channels(i))
+          call self%writer%add_series(c%name, size(c%values), c%unit, c%description, &
+                                      self%series(i), error, component_names=c%components)
+        end associate
+        if (allocated(error)) return
+      end do
+    end if
+    self%initialized = .true.
+    call self%write_step(error)
+  end subroutine scene_initialize
+
+  !> Advance to t_target, writing every output step passed on the way.
+  subroutine scene_advance(self, t_target, error)
+    class(scene_t), intent(inout) :: self
+    real(wp), intent(in) :: t_target
+    type(error_t), allocatable, intent(out) :: error
+    real(wp) :: t_out
+    if (.not. self%initialized) then
+      call make_error(error, RD_ERR_HANDLE, 'scene: advance before initialize')
+      return
+    end if
+    if (.not. ieee_is_finite(t_target) .or. t_target < self%t - 1e-12_wp * max(1.0_wp, abs(self%t))) then
+      call make_error(error, RD_ERR_INPUT, 'advance: target time must be finite and >= the current time')
+      return
+    end if
+    do
+      t_out = real(self%output_steps, wp) * self%interval
+      if (t_out > t_target + 1e-9_wp * self%interval) exit
+      call integrate_to(t_out)
+      if (allocated(error)) return
+      call self%write_step(error)
+      if (allocated(error)) return
+    end do
+    call integrate_to(t_target)
+  contains
+    subroutine integrate_to(t_stop)
+      real(wp), intent(in) :: t_stop
+      ! The multibody state joins here (integrator advance); the track-only scene is
+      ! kinematic: the vehicle position is an exact function of time.
+      self%t = max(self%t, t_stop)
+    end subroutine integrate_to
+  end subroutine scene_advance
+
+  subroutine write_step(self, error)
+    class(scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: error
+    integer :: i
+    call self%refresh_outputs()
+    if (self%writing) then
+      do i = 1, self%outputs%n
+        if (.not. all(ieee_is_finite(self%outputs%channels(i)%values))) then
+          call make_error(error, RD_ERR_RUNTIME, 'non-finite value in output ' // &
+                          self%outputs%channels(i)%name // ' at t = ' // real_text(self%t))
+          return
+        end if
+        call self%writer%set(self%series(i), self%outputs%channels(i)%values, error)
+        if (allocated(error)) return
+      end do
+      call self%writer%end_step(self%t, error)
+      if (allocated(error)) return
+    end if
+    self%output_steps = self%output_steps + 1
+  end subroutine write_step
+
+  pure function scene_vehicle_sigma(self, t) result(sigma)
+    class(scene_t), intent(in) :: self
+    real(wp), intent(in) :: t
+    real(wp) :: sigma
+    sigma = self%start_sigma + self%speed%distance(t)
+  end function scene_vehicle_sigma
+
+  subroutine refresh_outputs(self)
+    class(scene_t), intent(inout) :: self
+    integer :: k, j
+    real(wp) :: v, sigma
+    type(track_point_t) :: p
+    v = self%speed%speed(self%t)
+    sigma = self%vehicle_sigma(self%t)
+    j = 1
+    self%outputs%channels(j)%values(1) = v; j = j + 1
+    self%outputs%channels(j)%values(1) = sigma; j = j + 1
+    do k = 1, size(self%frame_offsets)
+      p = self%track%evaluate(sigma + self%frame_offsets(k))
+      self%outputs%channels(j)%values(1) = p%sigma; j = j + 1
+      self%outputs%channels(j)%values = p%r; j = j + 1
+      self%outputs%channels(j)%values = [p%heading, p%grade_angle, p%cant_angle]; j = j + 1
+      self%outputs%channels(j)%values(1) = p%curvature; j = j + 1
+      self%outputs%channels(j)%values(1) = p%superelevation; j = j + 1
+      self%outputs%channels(j)%values = v * p%omega; j = j + 1
+    end do
+  end subroutine refresh_outputs
+
+  subroutine scene_finalize(self, error)
+    class(scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: error
+    call close_output(self, 'completed', error)
+  end subroutine scene_finalize
+
+  !> Record a failure in the output's metadata and close it; the steps written so far
+  !> stay readable. The original error is returned unchanged to the caller.
+  subroutine scene_finalize_after_failure(self, failure)
+    class(scene_t), intent(inout) :: self
+    type(error_t), intent(in) :: failure
+    type(error_t), allocatable :: error
+    call close_output(self, 'failed: ' // failure%message, error)
+  end subroutine scene_finalize_after_failure
+
+  subroutine close_output(self, status, error)
+    type(scene_t), intent(inout) :: self
+    character(len=*), intent(in) :: status
+    type(error_t), allocatable, intent(out) :: error
+    integer(int64) :: clock, rate
+    real(wp) :: wall
+    if (.not. self%writing) return
+    self%writing = .false.
+    call system_clock(clock, rate)
+    wall = real(clock - self%clock_start, wp) / real(rate, wp)
+    call self%writer%close(status, self%t, wall, error)
+  end subroutine close_output
+
+  ! ------------------------------------------------------------------ queries
+  pure real(wp) function scene_time(self)
+    class(scene_t), intent(in) :: self
+    scene_time = self%t
+  end function scene_time
+
+  pure real(wp) function scene_end_time(self)
+    class(scene_t), intent(in) :: self
+    scene_end_time = self%t_end
+  end function scene_end_time
+
+  pure real(wp) function scene_output_interval(self)
+    class(scene_t), intent(in) :: self
+    scene_output_interval = self%interval
+  end function scene_output_interval
+
+  logical function scene_progress_wanted(self)
+    class(scene_t), intent(in) :: self
+    character(len=:), allocatable :: mode
+    type(error_t), allocatable :: error
+    call self%deck%get('output', 1, 'progress', mode, error)
+    scene_progress_wanted = .true.
+    if (.not. allocated(error)) scene_progress_wanted = mode /= 'off'
+  end function scene_progress_wanted
+
+  pure integer function scene_state_size(self)
+    class(scene_t), intent(in) :: self
+    scene_state_size = 0
+  end function scene_state_size
+
+  subroutine scene_get_state(self, y, error)
+    class(scene_t), intent(in) :: self
+    real(wp), intent(out) :: y(:)
+    type(error_t), allocatable, intent(out) :: error
+    if (size(y) /= self%state_size()) then
+      call make_error(error, RD_ERR_INPUT, 'get_state: the array has ' // int_text(size(y)) // &
+                      ' elements; expected the state size ' // int_text(self%state_size()))
+      return
+    end if
+  end subroutine scene_get_state
+
+  pure integer function scene_output_count(self)
+    class(scene_t), intent(in) :: self
+    scene_output_count = self%outputs%n
+  end function scene_output_count
+
+  subroutine scene_output_name(self, index, name, error)
+    class(scene_t), intent(in) :: self
+    integer, intent(in) :: index
+    character(len=:), allocatable, intent(out) :: name
+    type(error_t), allocatable, intent(out) :: error
+    if (index < 1 .or. index > self%outputs%n) then
+      call make_error(error, RD_ERR_INPUT, 'output index ' // int_text(index) // &
+                      ' out of range; expected 1 to ' // int_text(self%outputs%n))
+      name = ''
+      return
+    end if
+    name = self%outputs%channels(index)%name
+  end subroutine scene_output_name
+
+  subroutine scene_output_size(self, name, n, error)
+    class(scene_t), intent(in) :: self
+    character(len=*), intent(in) :: name
+    integer, intent(out) :: n
+    type(error_t), allocatable, intent(out) :: error
+    integer :: id
+    n = 0
+    call self%outputs%find(name, id, error)
+    if (allocated(error)) return
+    n = size(self%outputs%channels(id)%values)
+  end subroutine scene_output_size
+
+  subroutine scene_get_output(self, name, values, error)
+    class(scene_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    real(wp), intent(out) :: values(:)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: id
+    call self%outputs%find(name, id, error)
+    if (allocated(error)) return
+    if (size(values) /= size(self%outputs%channels(id)%values)) then
+      call make_error(error, RD_ERR_INPUT, 'output ' // name // ' has ' // &
+                      int_text(size(self%outputs%channels(id)%values)) // ' values; got an array of ' // &
+                      int_text(size(values)))
+      return
+    end if
+    call self%refresh_outputs()
+    values = self%outputs%channels(id)%values
+  end subroutine scene_get_output
+
+  subroutine scene_set_input(self, name, values, error)
+    class(scene_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: values(:)
+    type(error_t), allocatable, intent(out) :: error
+    if (.not. self%initialized) then
+      call make_error(error, RD_ERR_HANDLE, 'set_input before initialize')
+      return
+    end if
+    if (.not. all(ieee_is_finite(values))) then
+      call make_error(error, RD_ERR_INPUT, 'input ' // name // ': values must be finite')
+      return
+    end if
+    select case (name)
+    case ('speed')
+      if (size(values) /= 1 .or. values(1) < 0) then
+        call make_error(error, RD_ERR_INPUT, "input 'speed': expected one value >= 0 [m/s]")
+        return
+      end if
+      call self%speed%override(self%t, values(1), error=error)
+    case default
+      call make_error(error, RD_ERR_INPUT, "unknown input '" // name // &
+                      "'; expected 'speed' or 'body/<name>/external_force'")
+    end select
+  end subroutine scene_set_input
+
+  function scene_summary(self) result(text)
+    class(scene_t), intent(in) :: self
+    character(len=:), allocatable :: text
+    text = 'track ' // real_text(self%track%length()) // ' m, ' // &
+           int_text(self%deck%count('segment')) // ' segments, ' // &
+           int_text(self%deck%count('body')) // ' bodies, ' // &
+           int_text(self%deck%count('element')) // ' elements, ' // &
+           int_text(self%deck%count('wheelset')) // ' wheelsets, t_end ' // real_text(self%t_end) // ' s'
+  end function scene_summary
+
+  function scene_completion_summary(self) result(text)
+    class(scene_t), intent(in) :: self
+    character(len=:), allocatable :: text
+    text = 'completed t = ' // real_text(self%t) // ' s, ' // int_text(int(self%output_steps)) // &
+           ' output steps'
+  end function scene_completion_summary
+
+  !> The deck's path with its extension replaced by `suffix` (e.g. '_track.h5').
+  function scene_default_output_file(self, suffix) result(path)
+    class(scene_t), intent(in) :: self
+    character(len=*), intent(in) :: suffix
+    character(len=:), allocatable :: path
+    integer :: dot
+    path = self%deck%path('output', 1, 'file')
+    dot = index(path, '.', back=.true.)
+    if (dot > index(path, '/', back=.true.)) path = path(1:dot - 1)
+    path = path // suffix
+  end function scene_default_output_file
+
+  pure function int_text(i) result(text)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: text
+    character(len=24) :: buf
+    write (buf, '(i0)') i
+    text = trim(buf)
+  end function int_text
+
+  pure function real_text(x) result(text)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: text
+    character(len=32) :: buf
+    write (buf, '(g0.6)') x
+    text = trim(adjustl(buf))
+  end function real_text
+end module rd_scene
