@@ -19,7 +19,8 @@
 !>   vertical profile only);
 !> - gradient g = dz/dsigma ramps linearly from g0 to g1 (parabolic vertical curve),
 !>   z = z0 + g0 u + (g1 - g0) u^2 / (2 L).
-!> Beyond both ends the track continues straight with the end heading, cant and gradient.
+!> Beyond both ends the track continues straight with the end heading, cant and gradient
+!> (a track without segments is the straight through the start position).
 module rd_track
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp, pi
@@ -109,11 +110,8 @@ contains
     call check_cant(settings%start_superelevation, settings%gauge, settings%cant_base, where, &
                     'start_superelevation', error)
     if (allocated(error)) return
+    ! no segments: a track of length 0, i.e. a straight through the start (run-off both ways)
     n = size(specs)
-    if (n < 1) then
-      call make_error(error, RD_ERR_INPUT, where // ': a track needs at least one segment')
-      return
-    end if
 
     track%gauge = settings%gauge
     track%cant_base = settings%cant_base
@@ -354,7 +352,7 @@ contains
                            self%start_h, 0.0_wp, 0.0_wp, self%cant_base)
       return
     end if
-    if (sigma > self%starts(n + 1)) then
+    if (sigma > self%starts(n + 1) .or. n == 0) then
       u = sigma - self%starts(n + 1)
       point%r = self%end_r + u * [cos(self%end_psi), sin(self%end_psi), self%end_g]
       call set_track_frame(point, self%end_psi, 0.0_wp, 0.0_wp, self%end_g, 0.0_wp, 0.0_wp, &
