@@ -58,6 +58,9 @@ module rd_integrator
     type(integrator_stats_t) :: fixed_stats       !< counters of the fixed-step methods
     type(integrator_stats_t) :: before_reinit     !< SUNDIALS counters summed over earlier reinits
     integer(i8) :: reinits = 0
+    !> Set when an advance failed: the engine's internal state may differ from y, so the
+    !> caller must reinit (from the returned y or another state) before advancing again.
+    logical :: failed = .false.
   contains
     procedure :: init
     procedure :: advance
@@ -160,7 +163,8 @@ contains
   !> Integrate from the current time to exactly t_out (>= current time) and return the
   !> state there. On failure `error` names the method, the time reached, the last step
   !> size, the SUNDIALS flag and message, and the RHS's own message if it failed; y then
-  !> holds the last valid state (at the time reached), never a non-finite one.
+  !> holds the last valid state (at time()), never a non-finite one, and the integrator
+  !> refuses to advance until `reinit` is called.
   subroutine advance(self, t_out, y, error)
     class(integrator_t), intent(inout) :: self
     real(wp), intent(in) :: t_out
@@ -174,6 +178,11 @@ contains
 
     if (self%method == 0) then
       call make_error(error, RD_ERR_HANDLE, 'integrator used before init')
+      return
+    end if
+    if (self%failed) then
+      call make_error(error, RD_ERR_HANDLE, self%method_name() // ': the previous advance ' // &
+                      'failed; call reinit(t, y) before advancing again')
       return
     end if
     if (size(y) /= self%n) then
@@ -199,6 +208,7 @@ contains
     case (METHOD_RK4, METHOD_HEUN)
       call self%advance_fixed(t_out, error)
       if (allocated(error)) then
+        self%failed = .true.
         y = self%y
         return
       end if
@@ -214,6 +224,7 @@ contains
           self%y = y_before
         end if
         call self%report_sundials_failure(int(flag), t_out, self%t, error)
+        self%failed = .true.
         y = self%y
         return
       end if
@@ -225,6 +236,7 @@ contains
       call make_error(error, RD_ERR_RUNTIME, self%method_name() // ': the state became ' // &
                       'non-finite (NaN or Inf) in component ' // itoa(bad) // ' by t = ' // &
                       real_to_text(self%t) // ' s; output not written')
+      self%failed = .true.
       return
     end if
     y = self%y
@@ -371,6 +383,7 @@ contains
     self%t = t
     self%y = y
     self%context%fatal = .false.
+    self%failed = .false.
     self%reinits = self%reinits + 1
   end subroutine reinit
 
@@ -415,6 +428,7 @@ contains
     self%n = 0
     self%t = 0.0_wp
     self%reinits = 0
+    self%failed = .false.
     self%fixed_stats = integrator_stats_t()
     self%before_reinit = integrator_stats_t()
   end subroutine destroy

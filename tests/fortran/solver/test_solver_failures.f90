@@ -82,6 +82,15 @@ contains
                  method // ': time reached not just before the failure')
     end if
     call check(abs(y(1) - exp(-integ%time())) < 1.0e-4_wp, method // ': y is not the last valid state')
+    ! No silent continuation after a failure: reinit is required, then it runs on.
+    call integ%advance(2.0_wp, y, error)
+    call expect(error, RD_ERR_HANDLE, [character(len=40) :: 'call reinit'], method // ' advance after failure')
+    system%mode = 0
+    call integ%reinit(integ%time(), y, error)
+    call check(.not. allocated(error), method // ' reinit after failure')
+    call integ%advance(2.0_wp, y, error)
+    call check(.not. allocated(error), method // ' advance after reinit')
+    call check(abs(y(1) - exp(-2.0_wp)) < 1.0e-4_wp, method // ': wrong solution after reinit')
     call integ%destroy()
   end subroutine fatal_rhs
 
