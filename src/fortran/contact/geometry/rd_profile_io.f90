@@ -66,14 +66,14 @@ contains
     type(error_t), allocatable, intent(out) :: error
     character(len=max_line) :: line, key, val
     integer :: ios, nline, eq, n, ftype, mirror_y, mirror_z, inversion
-    logical :: in_points
+    logical :: in_points, in_header
     real(wp) :: ufac, afac, shift_y, shift_z, rot, a, b, c, yy, zz
     real(wp), allocatable :: ybuf(:), zbuf(:)
     character(len=300) :: msg
 
     ufac = 1; afac = 1; shift_y = 0; shift_z = 0; rot = 0
     ftype = -1; mirror_y = 0; mirror_z = 0; inversion = 0
-    in_points = .false.
+    in_points = .false.; in_header = .false.
     allocate (ybuf(256), zbuf(256))
     n = 0; nline = 0
     do
@@ -103,13 +103,15 @@ contains
         in_points = .true.
         cycle
       end if
+      if (index(line, 'header.begin') == 1) in_header = .true.
+      if (index(line, 'header.end') == 1) in_header = .false.
       eq = index(line, '=')
       if (eq == 0) cycle
       key = adjustl(line(:eq - 1))
       val = adjustl(line(eq + 1:))
       select case (trim(key))
-      case ('type')
-        call read_int(val, ftype)
+      case ('type')          ! the profile type lives in the header (spline.type is the data file type)
+        if (in_header) call read_int(val, ftype)
       case ('units.len.f')
         call read_real(val, ufac)
       case ('units.ang.f')
@@ -138,7 +140,7 @@ contains
       return
     end if
     if (ftype == 0 .and. kind == PROFILE_WHEEL .or. ftype == 1 .and. kind == PROFILE_RAIL) then
-      call make_error(error, RD_ERR_INPUT, trim(path) // ': header type = ' // merge('0 (rail) ', '1 (wheel)', ftype == 0) &
+      call make_error(error, RD_ERR_INPUT, trim(path) // ': header type = ' // trim(merge('0 (rail) ', '1 (wheel)', ftype == 0)) &
         // ' but a ' // profile_kind_name(kind) // ' profile is expected')
       return
     end if

@@ -19,6 +19,7 @@ module rd_strip_contact
   public :: strip_wheel_contact
 
   real(wp), parameter :: flange_angle = 0.3_wp   !< |contact angle| from which a patch is a flange patch
+  real(wp), parameter :: virtual_eps = 0.60_wp   !< virtual penetration factor (Kik-Piotrowski: 0.55; see theory doc)
 
 contains
 
@@ -94,8 +95,17 @@ contains
     res%n_patches = 0
     res%max_penetration = -huge(1.0_wp)
     if (ihi < ilo) return
-    kmax = ilo - 1 + maxloc(delta(ilo:ihi), dim=1)
-    res%max_penetration = refined_peak(delta, kmax, ilo, ihi)
+    ! max over the refined local maxima (not the refinement of the global discrete max):
+    ! stays continuous when the deepest point switches between two separate bumps
+    do i = ilo, ihi
+      if (i > ilo) then
+        if (delta(i) < delta(i - 1)) cycle
+      end if
+      if (i < ihi) then
+        if (delta(i) <= delta(i + 1)) cycle
+      end if
+      res%max_penetration = max(res%max_penetration, refined_peak(delta, i, ilo, ihi))
+    end do
 
     ! patches: runs of penetrating strips
     i = ilo
@@ -129,23 +139,42 @@ contains
     pure subroutine fill_patch(p, i1, i2, kc)
       type(contact_patch_t), intent(out) :: p
       integer, intent(in) :: i1, i2, kc
-      real(wp) :: x, w, slope, rr, nrm, te, tx
-      integer :: kk, jw
-      x = peak_offset(delta, kc, ilo, ihi)
-      kk = kc + merge(1, -1, x >= 0)
-      w = abs(x)
-      if (kk < ilo .or. kk > ihi) then
-        kk = kc; w = 0
-      end if
+      real(wp) :: x, w, wl, slope, rr, nrm, te, tx, thr, wsum, qsum
+      integer :: kk, jw, kc2
+      ! Contact point: centroid of the strips inside the virtual-penetration region of
+      ! Kik & Piotrowski (VSD 46, 2008), delta_i > (1 - eps) delta_max with eps = 0.6,
+      ! weighted by delta_i - (1 - eps) delta_max. For a Hertzian (parabolic) gap this is
+      ! the strip of maximum penetration of eq. 4.77; for the wide, flat gaps of worn or
+      ! near-conformal profiles it follows the pressure resultant instead of a flat maximum.
+      ! Strips enter with zero weight, so the point moves continuously with the pose.
       p%penetration = refined_peak(delta, kc, ilo, ihi)
-      p%point_rail = [lerp(tline(kc), tline(kk)), lerp(rail%y(kc), rail%y(kk)), lerp(rail%z(kc), rail%z(kk))]
-      p%point_wheel = pw(:, kc) + w * (pw(:, kk) - pw(:, kc))
-      p%u_rail = lerp(rail%u(kc), rail%u(kk))
-      p%normal = [0.0_wp, lerp(rail%ny(kc), rail%ny(kk)), lerp(rail%nz(kc), rail%nz(kk))]
+      thr = (1 - virtual_eps) * p%penetration
+      wsum = 0; qsum = 0
+      do kk = i1, i2
+        if (delta(kk) > thr) then
+          wsum = wsum + (delta(kk) - thr)
+          qsum = qsum + (delta(kk) - thr) * (kk - kc)
+        end if
+      end do
+      x = 0
+      if (wsum > 0) x = qsum / wsum
+      kk = kc + floor(x)
+      w = x - floor(x)
+      if (kk + 1 > ihi) then
+        kk = ihi - 1; w = 1
+      end if
+      kc2 = kk
+      kk = kc2 + 1
+      wl = w
+      p%penetration = refined_peak(delta, kc, ilo, ihi)
+      p%point_rail = [lerp(tline(kc2), tline(kk), wl), lerp(rail%y(kc2), rail%y(kk), wl), lerp(rail%z(kc2), rail%z(kk), wl)]
+      p%point_wheel = pw(:, kc2) + w * (pw(:, kk) - pw(:, kc2))
+      p%u_rail = lerp(rail%u(kc2), rail%u(kk), wl)
+      p%normal = [0.0_wp, lerp(rail%ny(kc2), rail%ny(kk), wl), lerp(rail%nz(kc2), rail%nz(kk), wl)]
       nrm = norm2(p%normal)
       p%normal = p%normal / nrm
       p%contact_angle = atan2(p%normal(2), p%normal(3))
-      p%curv_rail_lat = lerp(rail%kappa(kc), rail%kappa(kk))
+      p%curv_rail_lat = lerp(rail%kappa(kc2), rail%kappa(kk), wl)
       p%curv_rail_roll = 0
       jw = locate(wheel%y, p%point_wheel(2))
       x = (p%point_wheel(2) - wheel%y(jw)) / (wheel%y(jw + 1) - wheel%y(jw))
@@ -182,11 +211,6 @@ contains
       end if
       call strip_ends(kc, te, tx)
       p%strip_length = tx - te
-    contains
-      pure real(wp) function lerp(u, v)
-        real(wp), intent(in) :: u, v
-        lerp = u + w * (v - u)
-      end function lerp
     end subroutine fill_patch
 
     !> Entry and exit of rail line i through the wheel (thesis 4.68-4.71: when alpha falls
@@ -222,6 +246,11 @@ contains
     end subroutine strip_ends
 
   end subroutine strip_wheel_contact
+
+  pure real(wp) function lerp(u, v, w)
+    real(wp), intent(in) :: u, v, w
+    lerp = u + w * (v - u)
+  end function lerp
 
   !> Vertex offset (in strips, within +-0.5) of the parabola through delta(k-1..k+1).
   pure real(wp) function peak_offset(delta, k, ilo, ihi) result(x)

@@ -32,7 +32,7 @@ contains
       a = a_next
       weight = 2.0_wp * weight
       sum_c2 = sum_c2 + weight * c * c
-      if (abs(c) <= 1.0e-16_wp * a) exit
+      if (abs(c) <= 4.0_wp * epsilon(a) * a) exit   ! a, b may stay 1 ulp apart
     end do
     k_first = pi / (2.0_wp * a)
     e_second = k_first * (1.0_wp - sum_c2)

@@ -66,7 +66,8 @@ contains
     type(creepage_t), intent(in) :: creep
     type(creep_force_t), intent(out) :: force
     real(wp) :: c11, c22, c23, c33, a, b, g, l1, l2, l3, p_scale, dy, y, aj, dx, x, x_prev, step
-    real(wp) :: px, py, t, bound, rel, rate_x, fx, fy, mz, sx, sy, sm
+    real(wp) :: px, py, t2, bound, rel, rel_y, rate_x, rate_eta, rate_spin, inv_a2, scale, fx, fy, mz, sx, sy, sm
+    logical :: elliptic
     integer :: i, j
     if (.not. patch_is_loaded(patch)) return
     a = patch%a
@@ -82,12 +83,17 @@ contains
       p_scale = patch%friction * 2.0_wp * patch%normal_force / (pi * a * b)
     end if
     dy = 2.0_wp * b / self%ny
+    inv_a2 = 1.0_wp / (a * a)
+    rate_eta = creep%eta / l2
+    rate_spin = creep%phi / l3
+    elliptic = self%bound == BOUND_ELLIPTIC
     fx = 0.0_wp; fy = 0.0_wp; mz = 0.0_wp
     do j = 1, self%ny
       y = -b + (j - 0.5_wp) * dy
-      aj = a * sqrt(max(0.0_wp, 1.0_wp - (y / b)**2))
+      rel_y = max(0.0_wp, 1.0_wp - (y / b)**2)
+      aj = a * sqrt(rel_y)
       dx = 2.0_wp * aj / self%nx
-      rate_x = creep%xi / l1 - creep%phi * y / l3
+      rate_x = creep%xi / l1 - rate_spin * y
       px = 0.0_wp; py = 0.0_wp
       sx = 0.0_wp; sy = 0.0_wp; sm = 0.0_wp
       x_prev = aj
@@ -95,28 +101,27 @@ contains
         x = aj - (i - 0.5_wp) * dx
         step = x_prev - x
         px = px - rate_x * step
-        py = py - (creep%eta / l2 + creep%phi * 0.5_wp * (x_prev + x) / l3) * step
-        rel = max(0.0_wp, 1.0_wp - (x / a)**2 - (y / b)**2)
-        if (self%bound == BOUND_ELLIPTIC) then
+        py = py - (rate_eta + rate_spin * 0.5_wp * (x_prev + x)) * step
+        rel = max(0.0_wp, rel_y - x * x * inv_a2)
+        if (elliptic) then
           bound = p_scale * sqrt(rel)
         else
           bound = p_scale * rel
         end if
-        t = hypot(px, py)
-        if (t > bound) then       ! slip: traction on the bound, direction kept (eq. 3.53)
-          if (t > 0.0_wp) then
-            px = px * (bound / t)
-            py = py * (bound / t)
-          end if
+        t2 = px * px + py * py
+        if (t2 > bound * bound) then    ! slip: traction on the bound, direction kept (eq. 3.53)
+          scale = bound / sqrt(t2)
+          px = px * scale
+          py = py * scale
         end if
         sx = sx + px
         sy = sy + py
-        sm = sm + x * py - y * px
+        sm = sm + x * py
         x_prev = x
       end do
       fx = fx + sx * dx
       fy = fy + sy * dx
-      mz = mz + sm * dx
+      mz = mz + (sm - y * sx) * dx      ! Mz = sum (x p_y - y p_x) dA
     end do
     force%fx = fx * dy
     force%fy = fy * dy

@@ -18,7 +18,6 @@ module rd_creep_polach
   use rd_creep_law, only: creep_law_t, contact_patch_t, creepage_t, creep_force_t, &
                           creep_law_options_t, patch_is_loaded
   use rd_kalker_coefficients, only: kalker_coefficients
-  use rd_creep_linear, only: linear_creep_forces
   implicit none
   private
   public :: creep_polach_t, creep_polach_create
@@ -98,7 +97,10 @@ contains
     force%fx = -f * creep%xi / s_c
     force%fy = -(f * creep%eta / s_c + f_ys * creep%phi / s_c)
 
-    call linear_creep_forces(patch, creep, linear)
+    ! linear forces (thesis eq. 3.43 corrected, as rd_creep_linear) for the Mz scaling
+    linear%fx = -g * a * b * c11 * creep%xi
+    linear%fy = -g * a * b * (c22 * creep%eta + sqrt(a * b) * c23 * creep%phi)
+    linear%mz = g * (a * b)**1.5_wp * (c23 * creep%eta - sqrt(a * b) * c33 * creep%phi)
     f_lin = hypot(linear%fx, linear%fy)
     f_pol = hypot(force%fx, force%fy)
     if (f_lin > 0.0_wp) then
