@@ -108,6 +108,9 @@ program test_deck_errors
   call case('element body1 may be ground, nothing else', sim // body // &
     "&element name = 'k', type = 'spring_damper', body1 = 'grund', body2 = 'bogie1' /", &
     "case.nml:3: &element 'body1'", "undefined body 'grund'", "or 'ground'")
+  call case('element between a body and itself', sim // body // &
+    "&element name = 'k', type = 'spring_damper', body1 = 'bogie1', body2 = 'bogie1' /", &
+    "case.nml:3: &element 'body2'", "body2 = body1 = 'bogie1'", 'expected two different bodies')
   call case('body sharing its own frame', sim // body(1:len(body) - 2) // " frame = 'bogie1' /", &
     "case.nml:2: &body 'frame'", "'bogie1' refers to itself", 'expected another &body')
   call case('speed_times/speed_values mismatch', '&simulation t_end = 1.0,' // nl // &

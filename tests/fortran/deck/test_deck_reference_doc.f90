@@ -116,7 +116,6 @@ contains
     type(param_schema_t), intent(in) :: p
     character(len=*), intent(in) :: c(:)
     character(len=:), allocatable :: id, expect_type, def, valid
-    integer :: k
     id = '&' // gname // ' ' // p%name // ': '
     ! type
     select case (p%ptype)
@@ -193,7 +192,6 @@ contains
     else
       call check_range(id, valid, p)
     end if
-    k = 0
   end subroutine check_row
 
   !> Text after a prefix, or a marker that matches no list when it is absent.
@@ -211,7 +209,7 @@ contains
     use rd_deck_text, only: deck_string_t
     character(len=*), intent(in) :: text
     type(deck_string_t), intent(in) :: items(:)
-    integer :: k, start, n, comma
+    integer :: start, n, comma
     start = 1; n = 0
     same_list = .true.
     do while (start <= len(text))
@@ -228,7 +226,6 @@ contains
       start = start + comma + 1
     end do
     same_list = same_list .and. n == size(items)
-    k = 0
   end function same_list
 
   logical function same_reals(text, x)

@@ -109,7 +109,8 @@ contains
         call push(TK_WORD, text(i:j - 1)); i = j
       end select
     end do
-    call push(TK_EOF, '')
+    ! EOF padding: the parser looks up to three tokens ahead (name(k) =)
+    call push(TK_EOF, ''); call push(TK_EOF, ''); call push(TK_EOF, ''); call push(TK_EOF, '')
 
   contains
 

@@ -66,7 +66,7 @@ contains
     end do
     do i = 1, nent
       do j = 1, size(entities(i)%values)
-        call apply_default(schema, sources, entities, nent, i, j, error)
+        call apply_default(schema, sources, entities, i, j, error)
         if (allocated(error)) return
       end do
     end do
@@ -188,11 +188,11 @@ contains
   ! -------------------------------------------------------------------
   ! Defaults.
   ! -------------------------------------------------------------------
-  subroutine apply_default(schema, sources, entities, nent, i, j, error)
+  subroutine apply_default(schema, sources, entities, i, j, error)
     type(deck_schema_t), intent(in) :: schema
     type(source_file_t), intent(in) :: sources(:)
     type(deck_entity_t), intent(inout) :: entities(:)
-    integer, intent(in) :: nent, i, j
+    integer, intent(in) :: i, j
     type(error_t), allocatable, intent(out) :: error
     integer :: k, prev
     associate (p => schema%groups(entities(i)%group)%params(j), v => entities(i)%values(j))
@@ -243,7 +243,6 @@ contains
         call set_default(p, v)
       end select
     end associate
-    if (nent < 0) return
   end subroutine apply_default
 
   subroutine set_default(p, v)
@@ -504,6 +503,11 @@ contains
     subroutine check_element(e)
       type(deck_entity_t), intent(in) :: e
       integer :: jd, jf
+      if (sval(e, 'body1') == sval(e, 'body2')) then
+        call make_error(error, RD_ERR_INPUT, where_value(schema, sources, e, pidx(e, 'body2')) // &
+          "body2 = body1 = '" // sval(e, 'body2') // "'; expected two different bodies")
+        return
+      end if
       kind = sval(e, 'type')
       select case (kind)
       case ('table')

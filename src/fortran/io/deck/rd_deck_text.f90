@@ -72,7 +72,7 @@ contains
     character(len=40) :: buf, fmt
     character(len=:), allocatable :: mant
     real(wp) :: back
-    integer :: d, e, epos, ios, ndig, i
+    integer :: d, e, epos, ios, ndig
     logical :: neg
     if (x == 0.0_wp) then
       s = '0'; return
@@ -120,7 +120,6 @@ contains
       s = s // 'e' // int_to_str(e)
     end if
     if (neg) s = '-' // s
-    i = 0
   end function real_to_str
 
   !> Levenshtein distance (insertions, deletions, substitutions), case-insensitive.
@@ -235,7 +234,7 @@ contains
     e = 0
     if (epos > 0) then
       if (len(t) - epos > 6) then
-        decimal_magnitude = huge(1) / 2
+        decimal_magnitude = 1000000   ! exponent of more than 6 digits
         if (index(t(epos + 1:), '-') > 0) decimal_magnitude = -decimal_magnitude
         return
       end if
