@@ -12,12 +12,11 @@
 !> Derivatives. With the product rule, A^T dA = skew(w) where (track components)
 !>     w = psi' R_x^T R_y^T e_z + theta' R_x^T e_y + phi' e_x
 !>       = (phi' - psi' s_th,  psi' s_ph c_th + theta' c_ph,  psi' c_ph c_th - theta' s_ph),
-!> hence dA = A skew(w) and d2A = A (skew(w)^2 + skew(w')), with w' differentiated
+!> hence dA = A skew(w) and d2A = dA skew(w) + A skew(w'), with w' differentiated
 !> term by term below. (This is the product rule on R_z R_y R_x collected through
 !> A^T dA; the thesis appendix A writes the nine entries out instead.)
 module rd_track_frame
   use rd_kinds, only: wp
-  use rd_rotation, only: rot_x, rot_y, rot_z, skew
   use rd_track_point, only: track_point_t
   implicit none
   private
@@ -33,7 +32,7 @@ contains
     real(wp), intent(in) :: psi, dpsi, d2psi, g, dg, d2g, h, dh, d2h, cant_base
     real(wp) :: theta, dtheta, d2theta, phi, dphi, d2phi, one_g2, root
     real(wp) :: cps, sps, cth, sth, cph, sph
-    real(wp) :: w(3), dw(3), sw(3, 3)
+    real(wp) :: w(3), dw(3)
 
     ! grade angle (conventions.md): theta = -atan(g)
     one_g2 = 1 + g * g
@@ -71,9 +70,21 @@ contains
     point%omega = w
     point%domega = dw
 
-    point%a = matmul(rot_z(psi), matmul(rot_y(theta), rot_x(phi)))
-    sw = skew(w)
-    point%da = matmul(point%a, sw)
-    point%d2a = matmul(point%a, matmul(sw, sw) + skew(dw))
+    ! A = R_z(psi) R_y(theta) R_x(phi) written out (thesis eq. 4.5; the product of
+    ! rd_rotation's matrices, without temporaries: this runs in every RHS evaluation)
+    point%a(:, 1) = [cps * cth, sps * cth, -sth]
+    point%a(:, 2) = [cps * sth * sph - sps * cph, sps * sth * sph + cps * cph, cth * sph]
+    point%a(:, 3) = [cps * sth * cph + sps * sph, sps * sth * cph - cps * sph, cth * cph]
+    point%da = times_skew(point%a, w)
+    point%d2a = times_skew(point%da, w) + times_skew(point%a, dw)
   end subroutine set_track_frame
+
+  !> m skew(v), column by column: skew(v) e_j = v x e_j.
+  pure function times_skew(m, v) result(r)
+    real(wp), intent(in) :: m(3, 3), v(3)
+    real(wp) :: r(3, 3)
+    r(:, 1) = m(:, 2) * v(3) - m(:, 3) * v(2)
+    r(:, 2) = m(:, 3) * v(1) - m(:, 1) * v(3)
+    r(:, 3) = m(:, 1) * v(2) - m(:, 2) * v(1)
+  end function times_skew
 end module rd_track_frame

@@ -10,6 +10,7 @@ program test_track_segments
   use, intrinsic :: iso_fortran_env, only: real128
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t
+  use rd_rotation, only: rot_x, rot_y, rot_z
   use rd_track_point, only: track_point_t
   use rd_track, only: track_t, track_settings_t, segment_spec_t, build_track
   implicit none
@@ -130,7 +131,7 @@ contains
     class(track_t), intent(in) :: track
     real(wp), parameter :: h = 1.0e-4_wp
     type(track_point_t) :: p, pp, pm
-    real(wp) :: sigma, e(10), worst(10), ata(3, 3), w(3), t(3)
+    real(wp) :: sigma, e(11), worst(11), ata(3, 3), w(3), t(3)
     integer :: i
     worst = 0
     do i = 0, 80
@@ -153,9 +154,11 @@ contains
       e(9) = maxval(abs(p%a(:, 1) - t))
       e(10) = abs(p%a(3, 2) - cos(p%grade_angle) * p%superelevation / 1.5_wp) + &
               abs(p%grade_angle + atan(p%dr(3))) + abs(p%heading - atan2(p%dr(2), p%dr(1)))
+      ! A against the product of rd_rotation's elementary rotations (thesis eq. 4.5)
+      e(11) = maxval(abs(p%a - matmul(rot_z(p%heading), matmul(rot_y(p%grade_angle), rot_x(p%cant_angle)))))
       worst = max(worst, e)
     end do
-    print '(a,10es9.2)', 'derivatives vs central differences (dr d2r dA d2A domega), frame checks: ', worst
+    print '(a,11es9.2)', 'derivatives vs central differences (dr d2r dA d2A domega), frame checks: ', worst
     call check(worst(1) < 1.0e-8_wp, 'dr vs FD of r', worst(1))
     call check(worst(2) < 1.0e-9_wp, 'd2r vs FD of dr', worst(2))
     call check(worst(3) < 1.0e-9_wp, 'dA vs FD of A', worst(3))
@@ -166,6 +169,7 @@ contains
     call check(worst(8) < 1.0e-14_wp, 'det A = 1', worst(8))
     call check(worst(9) < 1.0e-14_wp, 'X_T along dr', worst(9))
     call check(worst(10) < 1.0e-13_wp, 'angles vs frame (cant lifts Y_T, grade, heading)', worst(10))
+    call check(worst(11) < 1.0e-15_wp, 'A = R_z R_y R_x', worst(11))
   end subroutine check_derivatives
 
   real(wp) function ata_entry(p, i, j)
