@@ -9,7 +9,7 @@ program test_deck_syntax
   use rd_deck, only: deck_t, read_deck_string, deck_string_t
   use rd_deck_text, only: edit_distance, real_to_str, is_real_text
   implicit none
-  type(deck_t) :: deck, unread
+  type(deck_t) :: deck, unread, never_read
   type(error_t), allocatable :: error
   character(len=1), parameter :: nl = achar(10)
   character(len=:), allocatable :: text, s
@@ -96,6 +96,10 @@ program test_deck_syntax
   call check(deck%origin('solver', 1, 'atol') == "syntax.nml:6: &solver 'atol'", &
              'origin of a default')
   call check(deck%text() == text, 'text() of a deck without includes is the deck')
+  call read_deck_string(unread, '&simulation t_end = 1.0 /', '/tmp/decks', '<string>', error)
+  call ok('string deck')
+  call check(unread%path('output', 1, 'file') == '/tmp/decks/string.h5', &
+             'default output of a string deck: ' // unread%path('output', 1, 'file'))
   call check(deck%count('wheelset') == 0 .and. deck%count('nonsense') == 0, 'counts')
 
   ! --- getter misuse: RD_ERR_INTERNAL, never a crash ---------------------
@@ -105,7 +109,7 @@ program test_deck_syntax
   call deck%get('body', 1, 'name', x, error); call internal('real asked of a string')
   call deck%get('solver', 1, 'max_num_steps', x, error); call internal('real asked of an integer')
   call deck%get('segment', 1, 'radius', x, error); call internal('optional parameter not given')
-  call unread%get('body', 1, 'mass', x, error); call internal('deck never read')
+  call never_read%get('body', 1, 'mass', x, error); call internal('deck never read')
   call check(.not. deck%given('bogie', 1, 'mass'), 'given of an unknown group')
   call check(deck%path('body', 1, 'mass') == '', 'path of a non-path parameter')
 

@@ -219,7 +219,7 @@ contains
       case (DEF_OPTIONAL)
         continue
       case (DEF_DECK_STEM)
-        v%strings = single_string(path_stem(sources(1)%name) // p%default_strings(1)%s)
+        v%strings = single_string(file_stem(sources(1)%name) // p%default_strings(1)%s)
         v%resolved = path_join(sources(1)%dir, v%strings(1)%s)
         v%source = 1; v%line = entities(i)%line
       case (DEF_VALUE, DEF_PREVIOUS)
@@ -244,6 +244,20 @@ contains
       end select
     end associate
   end subroutine apply_default
+
+  !> Stem of the deck name for default file names; a string deck named like
+  !> '<string>' gives 'string' (no '<', '>' in file names), an empty one 'raildyn'.
+  function file_stem(name) result(stem)
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: stem, raw
+    integer :: k
+    raw = path_stem(name)
+    stem = ''
+    do k = 1, len(raw)
+      if (index('<>:*?"|', raw(k:k)) == 0) stem = stem // raw(k:k)
+    end do
+    if (len(stem) == 0) stem = 'raildyn'
+  end function file_stem
 
   subroutine set_default(p, v)
     type(param_schema_t), intent(in) :: p
