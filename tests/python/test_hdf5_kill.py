@@ -127,3 +127,30 @@ def test_completed_demo_file(demo, tmp_path):
         assert meta["n_steps"] == steps
         assert meta["end_time"] == pytest.approx(0.01 * (steps - 1), rel=1e-15)
         assert meta["format"] == "raildyn-results"
+
+
+def test_reader_attached_while_the_run_finishes(demo, tmp_path):
+    """A monitoring reader holds the file (SWMR read, shared lock) while the writer
+    closes: the writer still records status 'completed' and all rows."""
+    path = tmp_path / "watched.h5"
+    steps = 200
+    proc = subprocess.Popen([str(demo), str(path), "10", "4", "2", str(steps)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = proc.stdout.readline()
+        assert line.startswith("flushed "), line + proc.stderr.read()
+        with Results(path) as watcher:
+            assert watcher.status == "running" and watcher.n_steps >= int(line.split()[1])
+            out, err = proc.communicate(timeout=60)   # the writer closes while we watch
+            assert proc.returncode == 0, err
+            assert out.splitlines()[-1] == f"closed {steps}"
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    with Results(path) as r:
+        assert r.status == "completed"
+        assert r.n_steps == steps and r.metadata["n_steps"] == steps
+        t, pos, _ = expected_rows(steps)
+        np.testing.assert_array_equal(r.time, t)
+        np.testing.assert_allclose(r.get("bodies/demo/position"), pos, rtol=0, atol=1e-15)

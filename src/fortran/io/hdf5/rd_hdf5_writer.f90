@@ -29,7 +29,8 @@
 !> the output). Unwritten cells have the fill value NaN, so a row that a crash left
 !> half-written cannot be mistaken for data.
 module rd_hdf5_writer
-  use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_char, c_loc, c_ptr, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_int, c_int64_t, c_bool, c_char, c_loc, c_ptr, &
+                                         c_null_char
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use hdf5
   use rd_kinds, only: wp, i8
@@ -57,6 +58,14 @@ module rd_hdf5_writer
       integer(c_int64_t), value :: file_id
       integer(c_int) :: status
     end function c_h5fstart_swmr_write
+    !> H5Pset_file_locking (HDF5 >= 1.10.7), also without a Fortran wrapper.
+    function c_h5pset_file_locking(fapl_id, use_file_locking, ignore_when_disabled) &
+        bind(C, name='H5Pset_file_locking') result(status)
+      import :: c_int, c_int64_t, c_bool
+      integer(c_int64_t), value :: fapl_id
+      logical(c_bool), value :: use_file_locking, ignore_when_disabled
+      integer(c_int) :: status
+    end function c_h5pset_file_locking
   end interface
 
   !> One registered time series (a dataset of shape (nrows, ncomp) in h5py).
@@ -554,6 +563,7 @@ contains
     integer(i8), intent(in), optional :: int_stat_values(:)
     real(wp), intent(in), optional :: real_stat_values(:)
     type(error_t), allocatable :: write_error
+    integer(hid_t) :: fapl
     integer :: hdferr, k
 
     if (self%mode == MODE_CLOSED) then
@@ -591,6 +601,15 @@ contains
     ! SWMR sessions allow no new attributes: reopen normally for the final metadata.
     call quiet_hdf5(.true.)
     call h5fopen_f(self%filename, H5F_ACC_RDWR_F, self%file, hdferr)
+    if (hdferr < 0) then
+      ! A reader following the run (SWMR read, e.g. a monitoring script) holds a shared
+      ! lock. The rows are complete and flushed; take the file without the lock for the
+      ! final attributes rather than leave a finished run marked 'running'.
+      call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
+      if (c_h5pset_file_locking(fapl, .false._c_bool, .true._c_bool) >= 0) &
+        call h5fopen_f(self%filename, H5F_ACC_RDWR_F, self%file, hdferr, access_prp=fapl)
+      call h5pclose_f(fapl, k)
+    end if
     call quiet_hdf5(.false.)
     if (self%file < 0 .or. hdferr < 0) then
       self%file = -1
