@@ -476,7 +476,8 @@ contains
   end subroutine writer_set
 
   !> Close the current step at simulated `time` [s] (or the value of the axis chosen at
-  !> open; finite, strictly increasing): every series must have been set. Writes the buffers when full and flushes every `flush_every` steps.
+  !> open; finite, strictly increasing): every series must have been set. Writes the
+  !> buffers when full and flushes every `flush_every` steps.
   subroutine writer_end_step(self, time, error)
     class(h5_writer_t), intent(inout) :: self
     real(wp), intent(in) :: time
