@@ -101,6 +101,9 @@ contains
       if (k == 4) call check(w%steps_flushed() == 5, 'flushed 5 rows after step 5')
     end do
     call check(w%steps_written() == nsteps, 'steps_written = 11')
+    call check(w%steps_flushed() == 10, 'flushed 10 rows after step 11')
+    call w%flush(error); call require_ok(error, 'explicit flush')
+    call check(w%steps_flushed() == nsteps, 'explicit flush writes the partial buffer')
     call w%close('completed', 0.105_wp, 1.25_wp, error, &
                  int_stat_names=[character(len=8) :: 'n_rhs', 'n_jac'], int_stat_values=[12345_i8, 67_i8], &
                  real_stat_names=['h_last'], real_stat_values=[2.5e-4_wp])
