@@ -135,12 +135,18 @@ contains
       call error_context(error, where)
       return
     end if
-    ! the interpolated cant must stay possible between the points too
+    ! the interpolated cant must stay possible between the points too, and the plan spline
+    ! must not fold back (|v| ~ 1 with the chord parameter; a cusp would make kappa infinite)
     hmax = 0
     do i = 1, n - 1
       do k = 0, 16
         d = (track%knot_sigma(i + 1) - track%knot_sigma(i)) * k / 16
         hmax = max(hmax, abs(horner(track%profile(:, i, 2), d)))
+        if (speed(track, i, (track%chord(i + 1) - track%chord(i)) * k / 16) < 0.1_wp) then
+          call make_error(error, RD_ERR_INPUT, where // ': the spline through the points folds back between points ' // &
+                          trim(itoa(i)) // ' and ' // trim(itoa(i + 1)) // ': check the point order and spacing')
+          return
+        end if
       end do
     end do
     if (hmax >= base) then
@@ -395,9 +401,9 @@ contains
       end do
       if (text(last:last) == '.') text(last:last) = ' '
       if (text(1:1) == '.') then
-        text = '0' // text
+        text = '0' // text(1:len(text) - 1)
       else if (text(1:2) == '-.') then
-        text = '-0' // text(2:)
+        text = '-0' // text(2:len(text) - 1)
       end if
     else
       write (text, '(es12.5)') x

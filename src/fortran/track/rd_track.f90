@@ -288,9 +288,9 @@ contains
       end do
       if (text(last:last) == '.') text(last:last) = ' '
       if (text(1:1) == '.') then
-        text = '0' // text
+        text = '0' // text(1:len(text) - 1)
       else if (text(1:2) == '-.') then
-        text = '-0' // text(2:)
+        text = '-0' // text(2:len(text) - 1)
       end if
     else
       write (text, '(es12.5)') x

@@ -8,7 +8,7 @@
 !> - vertical profile: the parabola z = g0 u + (g1 - g0) u^2/(2L); tangential run-off.
 program test_track_segments
   use, intrinsic :: iso_fortran_env, only: real128
-  use rd_kinds, only: wp, pi
+  use rd_kinds, only: wp
   use rd_error, only: error_t
   use rd_rotation, only: rot_x, rot_y, rot_z
   use rd_track_point, only: track_point_t
