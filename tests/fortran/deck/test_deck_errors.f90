@@ -56,6 +56,9 @@ program test_deck_errors
   call case('too many values from an index', sim // body(1:len(body) - 2) // &
     ' position(2) = 1, 2, 3 /', "case.nml:2: &body 'position'", &
     'too many values (3 from element 2)', 'expected 3 real numbers')
+  call case('gap in a variable list', '&simulation t_end = 1.0, speed_times = 0.0, 1.0,' // nl // &
+    ' speed_values = 1.0, speed_values(3) = 2.0 /', "case.nml:2: &simulation 'speed_values'", &
+    'element 2 not given (list of 3)', 'expected every element from 1 on')
   call case('index out of bounds', sim // body(1:len(body) - 2) // ' position(4) = 1 /', &
     "case.nml:2: &body 'position'", 'element index 4 out of bounds', 'expected 1 to 3')
   call case('missing required parameter (line of the group start)', sim // &

@@ -69,7 +69,7 @@ program test_deck_files
   ! --- includes and overrides ---------------------------------------------
   call read_deck_file(deck, dir // 'include/campaign.nml', error)
   call expect_ok('read campaign.nml')
-  call check(deck%count('body') == 2 .and. deck%count('element') == 2 .and. &
+  call check(deck%count('body') == 2 .and. deck%count('element') == 3 .and. &
              deck%count('simulation') == 1 .and. deck%count('include') == 2, 'merged counts')
   call deck%get('simulation', 1, 'speed', x, error)
   call check(x == 35.0_wp, 'speed overridden')
@@ -86,8 +86,12 @@ program test_deck_files
                                'repeat count + element override')
   call deck%get('element', 1, 'body1', s, error)
   call check(s == 'ground', 'body1 default ground')
-  call deck%get('element', 2, 'body1', s, error)
+  call deck%get('element', 3, 'body1', s, error)
   call check(s == 'ws', 'element referring to an included body')
+  call deck%get('element', 2, 'table_force', v, error)
+  call check(size(v) == 3, 'table_force length after element override')
+  if (size(v) == 3) call check(all(v == [-4.0e4_wp, 0.0_wp, 5.0e4_wp]), &
+                               'table_force(3) overridden, elements 1-2 kept')
   call check(deck%path('wheelset', 1, 'wheel_profile') == &
              dir // 'include/sub/profiles/sub_wheel.prw', 'path relative to the included deck: ' &
              // deck%path('wheelset', 1, 'wheel_profile'))

@@ -570,10 +570,12 @@ contains
         ' out of bounds; expected 1 to ' // int_to_str(capacity))
       return
     end if
-    if (has_index .and. p%size == 0 .and. k0 > current + 1) then
-      call make_error(error, RD_ERR_INPUT, where // 'element ' // int_to_str(k0) // &
-        ' assigned before element ' // int_to_str(current + 1) // &
-        '; expected list elements assigned in order without gaps')
+    ! gaps in variable lists (table_force(3) = ... alone) are allowed here, as an
+    ! override may fill them from an included deck; rd_deck_resolve rejects
+    ! the gaps that remain after merging.
+    if (has_index .and. p%size == 0 .and. k0 > 10000) then
+      call make_error(error, RD_ERR_INPUT, where // 'element index ' // int_to_str(k0) // &
+        ' too large; expected at most 10000 list elements')
       return
     end if
     last = k0 + n - 1

@@ -210,6 +210,16 @@ contains
             where (.not. v%set) v%reals = p%default_reals
           end if
         end if
+        ! variable lists written element by element must have no gaps
+        if ((p%ptype == PT_REAL_ARRAY .or. p%ptype == PT_STRING_LIST) .and. p%size == 0) then
+          if (.not. all(v%set)) then
+            k = findloc(v%set, .false., dim=1)
+            call make_error(error, RD_ERR_INPUT, where_value(schema, sources, entities(i), j) // &
+              'element ' // int_to_str(k) // ' not given (list of ' // int_to_str(size(v%set)) // &
+              '); expected every element from 1 on')
+            return
+          end if
+        end if
         return
       end if
       select case (p%default_kind)
