@@ -111,6 +111,14 @@ program test_deck_syntax
   call deck%get('segment', 1, 'radius', x, error); call internal('optional parameter not given')
   call never_read%get('body', 1, 'mass', x, error); call internal('deck never read')
   call check(.not. deck%given('bogie', 1, 'mass'), 'given of an unknown group')
+  call read_deck_string(never_read, '&simulation t_end = 1.0 /' // nl // &
+    '&body name = ''b'', mass = 1.0, ixx = 1, iyy = 1, izz = 1, frame = ''nobody'' /', '.', &
+    'bad.nml', error)
+  call check(allocated(error), 'a deck with an undefined reference fails')
+  if (allocated(error)) deallocate (error)
+  call check(never_read%count('body') == 0, 'a deck that failed to read is empty')
+  call never_read%get('simulation', 1, 't_end', x, error)
+  call internal('get from a deck that failed to read')
   call check(deck%path('body', 1, 'mass') == '', 'path of a non-path parameter')
 
   ! --- text helpers, against hand-computed values -------------------------

@@ -73,6 +73,8 @@ contains
     type(error_t), allocatable, intent(out) :: error
     type(parse_context_t) :: ctx
     character(len=:), allocatable :: expanded
+    type(deck_entity_t), allocatable :: entities(:)
+    integer :: nent
     ctx%schema = build_deck_schema()
     allocate (ctx%sources(1))
     ctx%sources(1)%name = name
@@ -83,9 +85,13 @@ contains
     call parse_source(ctx, text, 1, expanded, error)
     if (allocated(error)) return
     if (.not. allocated(ctx%entities)) allocate (ctx%entities(0))
+    ! resolved into locals: a deck that failed to read stays empty (its
+    ! getters then report RD_ERR_INTERNAL instead of half-read values)
     call resolve_entities(ctx%schema, ctx%sources(1:ctx%nsrc), ctx%entities, ctx%nent, &
-                          deck%entities, deck%nent, error)
+                          entities, nent, error)
     if (allocated(error)) return
+    call move_alloc(entities, deck%entities)
+    deck%nent = nent
     call move_alloc(ctx%sources, deck%sources)
     deck%schema = ctx%schema
     deck%full_text = expanded
