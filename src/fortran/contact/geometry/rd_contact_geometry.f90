@@ -6,6 +6,7 @@
 !> wheel of the mirrored pose (y, phi, psi) -> (-y, -phi, -psi) and the result mirrored back
 !> (reflection Y -> -Y), so symmetric profiles give exactly mirror-symmetric contacts.
 module rd_contact_geometry
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME
   use rd_profile, only: profile_t
@@ -106,6 +107,11 @@ contains
     type(error_t), allocatable, intent(out) :: error
     if (geo%model == 0) then
       call make_error(error, RD_ERR_INPUT, 'wheelset_contact: contact geometry not initialised')
+      return
+    end if
+    ! ieee_is_finite first: an ordered comparison with NaN would trap in Debug builds
+    if (.not. all(ieee_is_finite([y, z, phi, psi]))) then
+      call make_error(error, RD_ERR_RUNTIME, 'wheelset_contact: wheelset pose is not finite (NaN or Inf)')
       return
     end if
     if (.not. (abs(y) < 1 .and. abs(z) < 10 .and. abs(phi) < 1 .and. abs(psi) < 1)) then
