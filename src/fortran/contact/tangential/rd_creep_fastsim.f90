@@ -67,12 +67,12 @@ contains
     type(creep_force_t), intent(out) :: force
     ! Strips are independent: they are marched side by side in blocks of `lanes`, so the
     ! inner loop runs across strips (no loop-carried dependency, SIMD-friendly) while the
-    ! scratch stays fixed-size on the stack (no allocation). Unused lanes have a_j = 0.
+    ! scratch stays fixed-size on the stack (no allocation); the last block may be partial.
     integer, parameter :: lanes = 16
     real(wp) :: c11, c22, c23, c33, a, b, g, l1, l2, l3, p_scale, dy, inv_a2, rate_eta, rate_spin
     real(wp) :: half, step, x, rel, bound, t2, scale, fx, fy, mz
     real(wp), dimension(lanes) :: y, rel_y, aj, dx, rate_x, px, py, sx, sy, sm
-    integer :: i, j, lane, first
+    integer :: i, j, lane, first, nl
     logical :: elliptic
     if (.not. patch_is_loaded(patch)) return
     a = patch%a
@@ -94,22 +94,19 @@ contains
     rate_spin = creep%phi / l3
     fx = 0.0_wp; fy = 0.0_wp; mz = 0.0_wp
     do first = 1, self%ny, lanes
-      do lane = 1, lanes
+      nl = min(lanes, self%ny - first + 1)
+      do lane = 1, nl
         j = first + lane - 1
-        if (j <= self%ny) then
-          y(lane) = -b + (j - 0.5_wp) * dy
-          rel_y(lane) = max(0.0_wp, 1.0_wp - (y(lane) / b)**2)
-          aj(lane) = a * sqrt(rel_y(lane))
-        else
-          y(lane) = 0.0_wp; rel_y(lane) = 0.0_wp; aj(lane) = 0.0_wp
-        end if
+        y(lane) = -b + (j - 0.5_wp) * dy
+        rel_y(lane) = max(0.0_wp, 1.0_wp - (y(lane) / b)**2)
+        aj(lane) = a * sqrt(rel_y(lane))
         dx(lane) = 2.0_wp * aj(lane) / self%nx
         rate_x(lane) = creep%xi / l1 - rate_spin * y(lane)
       end do
       px = 0.0_wp; py = 0.0_wp; sx = 0.0_wp; sy = 0.0_wp; sm = 0.0_wp
       do i = 1, self%nx
         half = merge(0.5_wp, 1.0_wp, i == 1)     ! half-step start: first centre at dx/2
-        do lane = 1, lanes
+        do lane = 1, nl
           x = aj(lane) - (i - 0.5_wp) * dx(lane)
           step = half * dx(lane)
           ! adhesion increment over the step (slip evaluated at the step's middle x + step/2)
@@ -133,9 +130,9 @@ contains
         end do
       end do
       ! Mz = sum (x p_y - y p_x) dA
-      fx = fx + sum(sx * dx)
-      fy = fy + sum(sy * dx)
-      mz = mz + sum((sm - y * sx) * dx)
+      fx = fx + sum(sx(1:nl) * dx(1:nl))
+      fy = fy + sum(sy(1:nl) * dx(1:nl))
+      mz = mz + sum((sm(1:nl) - y(1:nl) * sx(1:nl)) * dx(1:nl))
     end do
     force%fx = fx * dy
     force%fy = fy * dy
