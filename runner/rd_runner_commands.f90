@@ -183,7 +183,11 @@ contains
         last_report = clock
       end if
     end do
-    if (show) write (error_unit, '(a)') ''
+    if (show) then
+      call system_clock(clock)
+      call print_progress(scene%time(), t_end, real(clock - clock0, wp) / rate)
+      write (error_unit, '(a)') ''
+    end if
     if (allocated(error)) then
       call scene%finalize_after_failure(error)
       call report(error, status)

@@ -310,6 +310,7 @@ contains
     call lookup(handle, model, status)
     if (status /= RD_OK) return
     call model%scene%finalize(error)   ! closes the output if still open; errors are moot now
+    call model%scene%destroy()
     model%magic = 0
     deallocate (model)
     do i = 1, nlive

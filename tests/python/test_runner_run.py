@@ -123,3 +123,27 @@ def test_killed_run_leaves_readable_file(raildyn_exe, tmp_path):
     sigma = r.get("vehicle/distance")[:, 0]
     assert np.allclose(sigma, 4.4 * t)
     assert r.metadata["status"] == "running"
+
+
+def test_progress_on_a_terminal(raildyn_exe, tmp_path):
+    """On a terminal a long run shows simulated time, fraction done and speed vs real time."""
+    import pty
+    d = deck(tmp_path, t_end=100.0, interval=0.01, flush=1000)
+    pid, fd = pty.fork()
+    if pid == 0:  # child: stderr is the pty
+        os.execv(str(raildyn_exe), [str(raildyn_exe), "run", str(d), "-o", str(tmp_path / "p.h5")])
+    chunks = []
+    try:
+        while True:
+            try:
+                data = os.read(fd, 4096)
+            except OSError:
+                break
+            if not data:
+                break
+            chunks.append(data)
+    finally:
+        _, status = os.waitpid(pid, 0)
+    text = b"".join(chunks).decode(errors="replace")
+    assert os.WEXITSTATUS(status) == 0, text
+    assert "real time" in text and "%" in text and "t = " in text, text

@@ -18,6 +18,17 @@ module rd_scene
   use rd_hdf5_writer, only: h5_writer_t
   use rd_output_set, only: output_set_t
   use rd_scene_track, only: build_scene_track
+  use rd_scene_vehicle, only: build_bodies, build_element, build_external_loads, body_index
+  use rd_body_spec, only: body_spec_t
+  use rd_multibody, only: multibody_t, BODY_OUT_RELATIVE, BODY_OUT_FIXED, ELEMENT_OUT
+  use rd_force_element, only: force_element_t
+  use rd_force_provider, only: force_provider_t
+  use rd_external_loads, only: external_loads_t
+  use rd_static_preload, only: solve_static_preloads
+  use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t
+  use rd_linear_spring_damper, only: linear_spring_damper_t
+  use rd_nonlinear_spring, only: nonlinear_spring_t
+  use rd_series_spring_damper, only: series_spring_damper_t
   implicit none
   private
   public :: scene_t, raildyn_version
@@ -32,7 +43,17 @@ module rd_scene
     logical :: initialized = .false.
     logical :: writing = .false.
     character(len=:), allocatable :: output_override
-    class(track_geometry_t), allocatable, public :: track
+    !> Pointers, not allocatables: the multibody system keeps a pointer to the track and
+    !> the integrator one to the system, so they must not move (see destroy).
+    class(track_geometry_t), pointer, public :: track => null()
+    type(multibody_t), pointer :: mbs => null()
+    type(external_loads_t), pointer :: loads => null()
+    type(integrator_t), pointer :: integrator => null()
+    type(integrator_settings_t) :: solver
+    real(wp), allocatable :: y(:)        !< integrator state at time t
+    integer :: nbodies = 0
+    character(len=:), allocatable :: equilibrium
+    real(wp) :: equilibrium_residual = 0
     type(speed_law_t) :: speed
     real(wp) :: t = 0
     real(wp) :: t_end = 0
@@ -68,9 +89,13 @@ module rd_scene
     procedure :: completion_summary => scene_completion_summary
     procedure :: default_output_file => scene_default_output_file
     procedure :: vehicle_sigma => scene_vehicle_sigma
+    procedure :: destroy => scene_destroy
+    procedure, private :: build_mechanics
+    procedure, private :: start_mechanics
     procedure, private :: refresh_outputs
     procedure, private :: write_step
     procedure, private :: register_outputs
+    procedure, private :: mbs_element_count
   end type scene_t
 
 contains
@@ -136,12 +161,22 @@ contains
       self%speed = constant_speed(v)
     end if
 
-    call build_scene_track(self%deck, self%track, error)
-    if (allocated(error)) return
+    block
+      class(track_geometry_t), allocatable :: track
+      call build_scene_track(self%deck, track, error)
+      if (allocated(error)) return
+      allocate (self%track, source=track)
+    end block
 
-    ! Without bodies the scene follows the vehicle reference point only.
-    allocate (self%frame_offsets(1))
-    self%frame_offsets = 0
+    self%nbodies = self%deck%count('body')
+    if (self%nbodies > 0) then
+      call self%build_mechanics(error)
+      if (allocated(error)) return
+    else
+      ! Without bodies the scene follows the vehicle reference point only.
+      allocate (self%frame_offsets(1))
+      self%frame_offsets = 0
+    end if
 
     call self%register_outputs()
     self%built = .true.
@@ -173,7 +208,44 @@ contains
                               'wx wy wz', id)
       end associate
     end do
+    do k = 1, self%nbodies
+      associate (p => 'bodies/' // self%mbs%bodies(k)%name // '/')
+        call self%outputs%add(p // 'position_track', 6, 'm m m rad rad rad', &
+          'coordinates q relative to the track frame (wheelset pitch: spin deviation beta)', &
+          'x y z yaw roll pitch', id)
+        call self%outputs%add(p // 'velocity_track', 6, 'm/s m/s m/s rad/s rad/s rad/s', &
+          'dq/dt relative to the track frame', 'vx vy vz yaw_rate roll_rate pitch_rate', id)
+        call self%outputs%add(p // 'acceleration_track', 6, 'm/s^2 m/s^2 m/s^2 rad/s^2 rad/s^2 rad/s^2', &
+          'd2q/dt2 relative to the track frame', 'ax ay az yaw_acc roll_acc pitch_acc', id)
+        call self%outputs%add(p // 'position_fixed', 3, 'm', 'centre of mass, fixed frame', 'X Y Z', id)
+        call self%outputs%add(p // 'angles_fixed', 3, 'rad', &
+          'Z-X-Y angles of the body frame relative to the fixed frame', 'yaw roll pitch', id)
+        call self%outputs%add(p // 'velocity_fixed', 3, 'm/s', 'velocity of the centre of mass, fixed frame', &
+          'vX vY vZ', id)
+        call self%outputs%add(p // 'angular_velocity_fixed', 3, 'rad/s', 'angular velocity, fixed frame', &
+          'wX wY wZ', id)
+        call self%outputs%add(p // 'angular_velocity_body', 3, 'rad/s', 'angular velocity, body frame', &
+          'wx wy wz', id)
+        call self%outputs%add(p // 'acceleration_fixed', 3, 'm/s^2', &
+          'acceleration of the centre of mass, fixed frame', 'aX aY aZ', id)
+      end associate
+    end do
+    do k = 1, self%mbs_element_count()
+      associate (p => 'elements/' // self%mbs%elements(k)%e%name // '/')
+        call self%outputs%add(p // 'deflection', 3, 'm', &
+          'deflection in element axes (torsion: rad)', 'dx dy dz', id)
+        call self%outputs%add(p // 'force_element', 3, 'N', &
+          'force on body 2 in element axes (torsion: moment, N*m)', 'fx fy fz', id)
+        call self%outputs%add(p // 'force_fixed', 3, 'N', 'force on body 2, fixed frame', 'fX fY fZ', id)
+      end associate
+    end do
   end subroutine register_outputs
+
+  pure integer function mbs_element_count(self)
+    class(scene_t), intent(in) :: self
+    mbs_element_count = 0
+    if (associated(self%mbs)) mbs_element_count = self%mbs%element_count()
+  end function mbs_element_count
 
   ! ------------------------------------------------------------------ running
   subroutine scene_initialize(self, write_output, error)
@@ -191,6 +263,10 @@ contains
     call system_clock(self%clock_start)
     self%t = 0
     self%output_steps = 0
+    if (self%nbodies > 0) then
+      call self%start_mechanics(error)
+      if (allocated(error)) return
+    end if
 
     if (write_output) then
       if (allocated(self%output_override)) then
@@ -250,9 +326,17 @@ contains
   contains
     subroutine integrate_to(t_stop)
       real(wp), intent(in) :: t_stop
-      ! The multibody state joins here (integrator advance); the track-only scene is
-      ! kinematic: the vehicle position is an exact function of time.
-      self%t = max(self%t, t_stop)
+      ! A track-only scene is kinematic: the vehicle position is an exact function of time.
+      if (t_stop <= self%t) return
+      if (associated(self%integrator)) then
+        call self%integrator%advance(t_stop, self%y, error)
+        if (allocated(error)) then
+          self%t = self%integrator%time()
+          call error_context(error, 'scene')
+          return
+        end if
+      end if
+      self%t = t_stop
     end subroutine integrate_to
   end subroutine scene_advance
 
@@ -303,7 +387,141 @@ contains
       self%outputs%channels(j)%values(1) = p%superelevation; j = j + 1
       self%outputs%channels(j)%values = v * p%omega; j = j + 1
     end do
+    if (self%nbodies == 0) return
+    block
+      real(wp) :: rel(BODY_OUT_RELATIVE), fix(BODY_OUT_FIXED), el(ELEMENT_OUT)
+      real(wp), allocatable :: ydot(:)
+      type(error_t), allocatable :: error
+      logical :: recoverable
+      integer :: i
+      ! One RHS evaluation at the output state refreshes kinematics, accelerations and
+      ! element forces (the integrator's last evaluation may be at another state).
+      allocate (ydot(size(self%y)))
+      call self%mbs%rhs(self%t, self%y, ydot, error, recoverable)
+      do i = 1, self%nbodies
+        call self%mbs%body_output_relative(i, rel)
+        call self%mbs%body_output_fixed(i, fix)
+        self%outputs%channels(j)%values = rel(1:6); j = j + 1
+        self%outputs%channels(j)%values = rel(7:12); j = j + 1
+        self%outputs%channels(j)%values = rel(13:18); j = j + 1
+        self%outputs%channels(j)%values = fix(1:3); j = j + 1
+        self%outputs%channels(j)%values = fix(4:6); j = j + 1
+        self%outputs%channels(j)%values = fix(7:9); j = j + 1
+        self%outputs%channels(j)%values = fix(10:12); j = j + 1
+        self%outputs%channels(j)%values = fix(13:15); j = j + 1
+        self%outputs%channels(j)%values = fix(16:18); j = j + 1
+      end do
+      do i = 1, self%mbs%element_count()
+        call self%mbs%element_output(i, el)
+        self%outputs%channels(j)%values = el(1:3); j = j + 1
+        self%outputs%channels(j)%values = el(4:6); j = j + 1
+        self%outputs%channels(j)%values = el(7:9); j = j + 1
+      end do
+    end block
   end subroutine refresh_outputs
+
+  ! ------------------------------------------------------------------ mechanics
+  !> Bodies, frames, elements and loads from the deck (no state yet).
+  subroutine build_mechanics(self, error)
+    class(scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: error
+    type(body_spec_t), allocatable :: bodies(:)
+    class(force_element_t), allocatable :: element
+    class(force_provider_t), pointer :: provider
+    real(wp) :: gravity
+    integer :: i
+    character(len=:), allocatable :: method
+
+    call build_bodies(self%deck, bodies, self%frame_offsets, error)
+    if (allocated(error)) return
+    call self%deck%get('simulation', 1, 'gravity', gravity, error); if (allocated(error)) return
+    allocate (self%mbs)
+    call self%mbs%init(bodies, self%frame_offsets, self%track, self%speed, error, &
+                       sigma0=self%start_sigma, gravity=gravity)
+    if (allocated(error)) return
+    do i = 1, self%deck%count('element')
+      call build_element(self%deck, i, element, error)
+      if (allocated(error)) return
+      call self%mbs%add_element(element, error)
+      if (allocated(error)) then
+        call error_context(error, self%deck%origin('element', i))
+        return
+      end if
+    end do
+    allocate (self%loads)
+    call build_external_loads(self%deck, self%loads, error)
+    if (allocated(error)) return
+    provider => self%loads
+    call self%mbs%add_provider(provider)
+
+    call self%deck%get('simulation', 1, 'equilibrium', self%equilibrium, error); if (allocated(error)) return
+    call self%deck%get('solver', 1, 'method', method, error); if (allocated(error)) return
+    self%solver%method = method
+    call self%deck%get('solver', 1, 'rtol', self%solver%rtol, error); if (allocated(error)) return
+    call self%deck%get('solver', 1, 'atol', self%solver%atol, error); if (allocated(error)) return
+    call self%deck%get('solver', 1, 'max_step', self%solver%max_step, error); if (allocated(error)) return
+    call self%deck%get('solver', 1, 'min_step', self%solver%min_step, error); if (allocated(error)) return
+    call self%deck%get('solver', 1, 'initial_step', self%solver%initial_step, error); if (allocated(error)) return
+    call self%deck%get('solver', 1, 'max_num_steps', self%solver%max_num_steps, error); if (allocated(error)) return
+    call self%deck%get('solver', 1, 'fixed_step', self%solver%fixed_step, error); if (allocated(error)) return
+    call self%deck%get('solver', 1, 'max_order', self%solver%max_order, error); if (allocated(error)) return
+  end subroutine build_mechanics
+
+  !> Initial state: elements at their nominal length in the initial configuration,
+  !> preloads for static equilibrium (thesis 5.2.1 d), then the integrator.
+  subroutine start_mechanics(self, error)
+    class(scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: error
+    allocate (self%y(self%mbs%state_size()))
+    call self%mbs%initial_state(self%y, error)
+    if (allocated(error)) return
+    call nominal_lengths_from_initial_configuration(self%mbs, self%y)
+    if (self%equilibrium == 'preload') then
+      call solve_static_preloads(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error)
+      if (allocated(error)) then
+        call error_context(error, self%deck%origin('simulation', 1, 'equilibrium'))
+        return
+      end if
+    end if
+    allocate (self%integrator)
+    call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error)
+    if (allocated(error)) call error_context(error, self%deck%origin('solver', 1))
+  end subroutine start_mechanics
+
+  !> Point-to-point elements are unstressed (apart from their preload) in the initial
+  !> configuration: their free length is the separation of the attachment points there.
+  subroutine nominal_lengths_from_initial_configuration(mbs, y)
+    type(multibody_t), intent(inout) :: mbs
+    real(wp), intent(in) :: y(:)
+    real(wp), allocatable :: ydot(:)
+    type(error_t), allocatable :: error
+    logical :: recoverable
+    integer :: e
+    allocate (ydot(size(y)))
+    call mbs%rhs(0.0_wp, y, ydot, error, recoverable)
+    do e = 1, mbs%element_count()
+      select type (el => mbs%elements(e)%e)
+      type is (linear_spring_damper_t)
+        el%free_length = el%free_length + mbs%el_res(e)%deflection
+      type is (nonlinear_spring_t)
+        el%free_length = el%free_length + mbs%el_res(e)%deflection
+      type is (series_spring_damper_t)
+        el%free_length = el%free_length + norm2(mbs%el_res(e)%deflection)
+      end select
+    end do
+  end subroutine nominal_lengths_from_initial_configuration
+
+  !> Free what the pointers own (the C API calls this before deallocating the model).
+  subroutine scene_destroy(self)
+    class(scene_t), intent(inout) :: self
+    if (associated(self%integrator)) then
+      call self%integrator%destroy()
+      deallocate (self%integrator)
+    end if
+    if (associated(self%mbs)) deallocate (self%mbs)
+    if (associated(self%loads)) deallocate (self%loads)
+    if (associated(self%track)) deallocate (self%track)
+  end subroutine scene_destroy
 
   subroutine scene_finalize(self, error)
     class(scene_t), intent(inout) :: self
@@ -330,7 +548,22 @@ contains
     self%writing = .false.
     call system_clock(clock, rate)
     wall = real(clock - self%clock_start, wp) / real(rate, wp)
-    call self%writer%close(status, self%t, wall, error)
+    if (associated(self%integrator)) then
+      block
+        type(integrator_stats_t) :: st
+        call self%integrator%get_stats(st)
+        call self%writer%close(status, self%t, wall, error, &
+          int_stat_names=[character(len=24) :: 'n_steps', 'n_rhs', 'n_rhs_jacobian', 'n_jac', &
+                          'n_linear_setups', 'n_error_fail', 'n_newton_fail', 'n_reinit'], &
+          int_stat_values=[st%steps, st%rhs_evals, st%rhs_evals_jacobian, st%jacobian_evals, &
+                           st%linear_setups, st%error_test_failures, st%nonlinear_conv_failures, &
+                           st%reinits], &
+          real_stat_names=[character(len=24) :: 'h_last', 'equilibrium_residual'], &
+          real_stat_values=[st%last_step, self%equilibrium_residual])
+      end block
+    else
+      call self%writer%close(status, self%t, wall, error)
+    end if
   end subroutine close_output
 
   ! ------------------------------------------------------------------ queries
@@ -361,6 +594,7 @@ contains
   pure integer function scene_state_size(self)
     class(scene_t), intent(in) :: self
     scene_state_size = 0
+    if (allocated(self%y)) scene_state_size = size(self%y)
   end function scene_state_size
 
   subroutine scene_get_state(self, y, error)
@@ -372,6 +606,7 @@ contains
                       ' elements; expected the state size ' // int_text(self%state_size()))
       return
     end if
+    if (allocated(self%y)) y = self%y
   end subroutine scene_get_state
 
   pure integer function scene_output_count(self)
@@ -443,7 +678,33 @@ contains
         return
       end if
       call self%speed%override(self%t, values(1), error=error)
+      if (allocated(error)) return
+      if (associated(self%mbs)) then
+        call self%mbs%speed%override(self%t, values(1), error=error)
+        if (allocated(error)) return
+        ! The right-hand side changes here: restart the integrator's history.
+        call self%integrator%reinit(self%t, self%y, error)
+      end if
     case default
+      if (index(name, 'body/') == 1 .and. index(name, '/external_force') == len(name) - 14) then
+        block
+          integer :: ib
+          ib = 0
+          if (associated(self%mbs)) ib = body_index(self%deck, name(6:len(name) - 15))
+          if (ib < 1) then
+            call make_error(error, RD_ERR_INPUT, "input '" // name // "': no such body")
+            return
+          end if
+          if (size(values) /= 6) then
+            call make_error(error, RD_ERR_INPUT, "input '" // name // &
+                            "': expected 6 values (force [N] and moment [N m], fixed frame)")
+            return
+          end if
+          call self%mbs%set_override_load(ib, values(1:3), values(4:6), error)
+          if (.not. allocated(error)) call self%integrator%reinit(self%t, self%y, error)
+        end block
+        return
+      end if
       call make_error(error, RD_ERR_INPUT, "unknown input '" // name // &
                       "'; expected 'speed' or 'body/<name>/external_force'")
     end select

@@ -1,0 +1,294 @@
+!> Builds the bodies, track frames, force elements and external loads of a scene from
+!> the deck's `&body`, `&element` and `&external_force` groups (docs/input_reference.md),
+!> in the frames and numbering of docs/conventions.md.
+module rd_scene_vehicle
+  use rd_kinds, only: wp
+  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT
+  use rd_rotation, only: rot_x, rot_y, rot_z
+  use rd_deck, only: deck_t, deck_string_t
+  use rd_body_spec, only: body_spec_t
+  use rd_external_loads, only: external_loads_t, external_load_t, LOAD_FRAME_FIXED, &
+                               LOAD_FRAME_TRACK, LOAD_FRAME_BODY
+  use rd_force_element, only: force_element_t
+  use rd_linear_spring_damper, only: linear_spring_damper_t
+  use rd_torsion_spring_damper, only: torsion_spring_damper_t
+  use rd_nonlinear_spring, only: nonlinear_spring_t, make_force_table
+  use rd_series_spring_damper, only: series_spring_damper_t
+  implicit none
+  private
+  public :: build_bodies, build_element, build_external_loads, body_index
+
+  character(len=*), parameter :: dof_names(6) = [character(len=5) :: 'x', 'y', 'z', 'yaw', 'roll', 'pitch']
+
+contains
+
+  !> Index of the body called `name` (0 for 'ground', -1 if unknown).
+  integer function body_index(deck, name) result(ib)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: name
+    type(error_t), allocatable :: error
+    character(len=:), allocatable :: other
+    integer :: i
+    ib = -1
+    if (name == 'ground') then
+      ib = 0
+      return
+    end if
+    do i = 1, deck%count('body')
+      call deck%get('body', i, 'name', other, error)
+      if (.not. allocated(error) .and. other == name) then
+        ib = i
+        return
+      end if
+    end do
+  end function body_index
+
+  !> One body spec per `&body` and the arc-length offsets of the track frames. A body
+  !> with `frame = 'own'` gets a frame of its own at sigma_vehicle + frame_offset;
+  !> otherwise it shares the frame of the named body (thesis 4.2.3: one frame per
+  !> wheelset, the other bodies referred to the nearest one).
+  subroutine build_bodies(deck, bodies, frame_offsets, error)
+    type(deck_t), intent(in) :: deck
+    type(body_spec_t), allocatable, intent(out) :: bodies(:)
+    real(wp), allocatable, intent(out) :: frame_offsets(:)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: n, i, j, k, nframes, hops
+    integer, allocatable :: frame_of(:), owner(:)
+    character(len=:), allocatable :: name, frame
+    type(deck_string_t), allocatable :: frozen(:)
+    real(wp), allocatable :: v(:)
+    real(wp) :: offset, ixy, ixz, iyz
+
+    n = deck%count('body')
+    allocate (bodies(n), frame_of(n), owner(n), frame_offsets(n))
+    ! Frames owned by bodies with their own frame, in body order.
+    nframes = 0
+    do i = 1, n
+      call deck%get('body', i, 'frame', frame, error); if (allocated(error)) return
+      if (frame == 'own') then
+        nframes = nframes + 1
+        call deck%get('body', i, 'frame_offset', offset, error); if (allocated(error)) return
+        frame_offsets(nframes) = offset
+        frame_of(i) = nframes
+      else
+        frame_of(i) = 0
+        owner(i) = body_index(deck, frame)
+        if (owner(i) == i) then
+          call make_error(error, RD_ERR_INPUT, deck%origin('body', i, 'frame') // &
+                          ": a body cannot share its own frame; expected 'own' or another body's name")
+          return
+        end if
+      end if
+    end do
+    ! Resolve shared frames (a chain of shares ends at a body with its own frame).
+    do i = 1, n
+      k = i
+      hops = 0
+      do while (frame_of(k) == 0)
+        k = owner(k)
+        hops = hops + 1
+        if (k < 1 .or. hops > n) then
+          call make_error(error, RD_ERR_INPUT, deck%origin('body', i, 'frame') // &
+                          ': the chain of shared frames does not end at a body with its own frame')
+          return
+        end if
+      end do
+      bodies(i)%frame = frame_of(k)
+    end do
+    frame_offsets = frame_offsets(1:nframes)
+
+    do i = 1, n
+      associate (b => bodies(i))
+        call deck%get('body', i, 'name', name, error); if (allocated(error)) return
+        b%name = name
+        call deck%get('body', i, 'mass', b%mass, error); if (allocated(error)) return
+        call deck%get('body', i, 'ixx', b%inertia(1, 1), error); if (allocated(error)) return
+        call deck%get('body', i, 'iyy', b%inertia(2, 2), error); if (allocated(error)) return
+        call deck%get('body', i, 'izz', b%inertia(3, 3), error); if (allocated(error)) return
+        call deck%get('body', i, 'ixy', ixy, error); if (allocated(error)) return
+        call deck%get('body', i, 'ixz', ixz, error); if (allocated(error)) return
+        call deck%get('body', i, 'iyz', iyz, error); if (allocated(error)) return
+        ! The deck gives the inertia tensor's elements at the CG in body axes
+        ! (ixy = I(1,2), products with their tensor sign).
+        b%inertia(1, 2) = ixy; b%inertia(2, 1) = ixy
+        b%inertia(1, 3) = ixz; b%inertia(3, 1) = ixz
+        b%inertia(2, 3) = iyz; b%inertia(3, 2) = iyz
+        call deck%get('body', i, 'position', v, error); if (allocated(error)) return
+        b%q0(1:3) = v
+        call deck%get('body', i, 'orientation', v, error); if (allocated(error)) return
+        b%q0(4:6) = v
+        call deck%get('body', i, 'velocity', v, error); if (allocated(error)) return
+        b%qdot0(1:3) = v
+        call deck%get('body', i, 'angular_rate', v, error); if (allocated(error)) return
+        b%qdot0(4:6) = v
+        if (deck%given('body', i, 'frozen')) then
+          call deck%get('body', i, 'frozen', frozen, error); if (allocated(error)) return
+          do j = 1, size(frozen)
+            k = findloc(dof_names, frozen(j)%s, dim=1)
+            if (k == 0) then
+              call make_error(error, RD_ERR_INPUT, deck%origin('body', i, 'frozen') // ": '" // &
+                frozen(j)%s // "' is not a degree of freedom; expected x, y, z, yaw, roll or pitch")
+              return
+            end if
+            b%frozen(k) = .true.
+          end do
+        end if
+      end associate
+    end do
+    ! Wheelsets: the body named by a &wheelset spins about its axle (spin deviation state).
+    do j = 1, deck%count('wheelset')
+      call deck%get('wheelset', j, 'body', name, error); if (allocated(error)) return
+      i = body_index(deck, name)
+      if (i < 1) then
+        call make_error(error, RD_ERR_INPUT, deck%origin('wheelset', j, 'body') // ": no &body named '" // &
+                        name // "'")
+        return
+      end if
+      bodies(i)%is_wheelset = .true.
+      call deck%get('wheelset', j, 'nominal_radius', bodies(i)%r0, error); if (allocated(error)) return
+    end do
+  end subroutine build_bodies
+
+  !> Element axes from the deck's (yaw, roll, pitch) angles, Z-X-Y as the body frames.
+  pure function axes_from_angles(a) result(r)
+    real(wp), intent(in) :: a(3)
+    real(wp) :: r(3, 3)
+    r = matmul(rot_z(a(1)), matmul(rot_x(a(2)), rot_y(a(3))))
+  end function axes_from_angles
+
+  !> The force element of `&element` number i.
+  subroutine build_element(deck, i, element, error)
+    type(deck_t), intent(in) :: deck
+    integer, intent(in) :: i
+    class(force_element_t), allocatable, intent(out) :: element
+    type(error_t), allocatable, intent(out) :: error
+    character(len=:), allocatable :: name, kind, b1, b2, axis
+    real(wp), allocatable :: p1(:), p2(:), ang(:), k(:), c(:), pre(:), act(:), e(:), f(:)
+    real(wp) :: clearance, ks
+    integer :: ia
+
+    call deck%get('element', i, 'name', name, error); if (allocated(error)) return
+    call deck%get('element', i, 'type', kind, error); if (allocated(error)) return
+    call deck%get('element', i, 'body1', b1, error); if (allocated(error)) return
+    call deck%get('element', i, 'body2', b2, error); if (allocated(error)) return
+    call deck%get('element', i, 'point1', p1, error); if (allocated(error)) return
+    call deck%get('element', i, 'point2', p2, error); if (allocated(error)) return
+    call deck%get('element', i, 'axes', ang, error); if (allocated(error)) return
+    call deck%get('element', i, 'damping', c, error); if (allocated(error)) return
+
+    select case (kind)
+    case ('spring_damper')
+      block
+        type(linear_spring_damper_t), allocatable :: s
+        allocate (s)
+        call deck%get('element', i, 'stiffness', k, error); if (allocated(error)) return
+        call deck%get('element', i, 'preload', pre, error); if (allocated(error)) return
+        call deck%get('element', i, 'actuator_force', act, error); if (allocated(error)) return
+        s%u1 = p1; s%u2 = p2; s%axes = axes_from_angles(ang)
+        s%stiffness = k; s%damping = c; s%preload = pre; s%actuator = act
+        call move_alloc(s, element)
+      end block
+    case ('torsion')
+      block
+        type(torsion_spring_damper_t), allocatable :: s
+        allocate (s)
+        call deck%get('element', i, 'torsion_stiffness', k, error); if (allocated(error)) return
+        call deck%get('element', i, 'torsion_damping', c, error); if (allocated(error)) return
+        s%axes1 = axes_from_angles(ang); s%axes2 = s%axes1
+        s%stiffness = k; s%damping = c
+        call move_alloc(s, element)
+      end block
+    case ('table')
+      block
+        type(nonlinear_spring_t), allocatable :: s
+        allocate (s)
+        if (.not. deck%given('element', i, 'table_axis')) then
+          call make_error(error, RD_ERR_INPUT, deck%origin('element', i, 'table_axis') // &
+                          ": missing; expected 'x', 'y' or 'z' (the element axis the table acts along)")
+          return
+        end if
+        call deck%get('element', i, 'table_axis', axis, error); if (allocated(error)) return
+        ia = index('xyz', axis)
+        if (.not. deck%given('element', i, 'table_deflection') .or. &
+            .not. deck%given('element', i, 'table_force')) then
+          call make_error(error, RD_ERR_INPUT, deck%origin('element', i, 'table_force') // &
+                          ': a table element needs table_deflection and table_force')
+          return
+        end if
+        call deck%get('element', i, 'table_deflection', e, error); if (allocated(error)) return
+        call deck%get('element', i, 'table_force', f, error); if (allocated(error)) return
+        call deck%get('element', i, 'clearance', clearance, error); if (allocated(error)) return
+        s%u1 = p1; s%u2 = p2; s%axes = axes_from_angles(ang)
+        s%clearance_pos(ia) = clearance
+        s%clearance_neg(ia) = clearance
+        s%damping(ia) = c(ia)
+        call make_force_table(s%table_pos(ia), e, f, error)
+        if (allocated(error)) then
+          call error_context(error, deck%origin('element', i, 'table_deflection'))
+          return
+        end if
+        call move_alloc(s, element)
+      end block
+    case ('series_spring_damper')
+      block
+        type(series_spring_damper_t), allocatable :: s
+        allocate (s)
+        if (.not. deck%given('element', i, 'series_stiffness')) then
+          call make_error(error, RD_ERR_INPUT, deck%origin('element', i, 'series_stiffness') // &
+                          ': missing; expected the stiffness in series with the damper [N/m] (> 0)')
+          return
+        end if
+        call deck%get('element', i, 'series_stiffness', ks, error); if (allocated(error)) return
+        if (.not. (c(1) > 0)) then
+          call make_error(error, RD_ERR_INPUT, deck%origin('element', i, 'damping') // &
+                          ': a series spring-damper needs damping(1) > 0 [N s/m] (along its line)')
+          return
+        end if
+        s%u1 = p1; s%u2 = p2; s%stiffness = ks; s%damping = c(1)
+        call move_alloc(s, element)
+      end block
+    case default
+      call make_error(error, RD_ERR_INPUT, deck%origin('element', i, 'type') // ": unknown type '" // kind // "'")
+      return
+    end select
+    element%name = name
+    element%body1 = body_index(deck, b1)
+    element%body2 = body_index(deck, b2)
+    if (element%body1 < 0 .or. element%body2 < 1) then
+      call make_error(error, RD_ERR_INPUT, deck%origin('element', i, merge('body1', 'body2', element%body1 < 0)) // &
+                      ': no such body; expected the name of a &body' // trim(merge(" or 'ground'", '            ', element%body1 < 0)))
+    end if
+  end subroutine build_element
+
+  subroutine build_external_loads(deck, loads, error)
+    type(deck_t), intent(in) :: deck
+    type(external_loads_t), intent(inout) :: loads
+    type(error_t), allocatable, intent(out) :: error
+    type(external_load_t) :: load
+    character(len=:), allocatable :: name, frame
+    real(wp), allocatable :: v(:)
+    integer :: i
+    allocate (loads%loads(0))
+    do i = 1, deck%count('external_force')
+      call deck%get('external_force', i, 'body', name, error); if (allocated(error)) return
+      load%body = body_index(deck, name)
+      call deck%get('external_force', i, 'frame', frame, error); if (allocated(error)) return
+      select case (frame)
+      case ('track'); load%frame = LOAD_FRAME_TRACK
+      case ('body'); load%frame = LOAD_FRAME_BODY
+      case default; load%frame = LOAD_FRAME_FIXED
+      end select
+      call deck%get('external_force', i, 'force', v, error); if (allocated(error)) return
+      load%force = v
+      call deck%get('external_force', i, 'moment', v, error); if (allocated(error)) return
+      load%moment = v
+      call deck%get('external_force', i, 't_start', load%t_on, error); if (allocated(error)) return
+      call deck%get('external_force', i, 't_end', load%t_off, error); if (allocated(error)) return
+      call loads%add_load(load, deck%count('body'), error)
+      if (allocated(error)) then
+        call error_context(error, deck%origin('external_force', i))
+        return
+      end if
+    end do
+  end subroutine build_external_loads
+end module rd_scene_vehicle
