@@ -28,7 +28,7 @@ program test_profiles
   if (allocated(error)) error stop error%message
   n = size(prof%y)
   call check(n == 399, 'v3 wheel: 399 active points (a commented point is skipped)')
-  call check(abs(prof%y(1) + 0.0696126_wp) < 1e-9_wp .and. prof%y(n) > prof%y(1), &
+  call check(abs(prof%y(1) + 0.069612628_wp) < 1e-12_wp .and. prof%y(n) > prof%y(1), &
     'v3 wheel: mirrored to S (flange back side first) and in metres')
   dmax = 0
   do i = 1, n
