@@ -92,6 +92,7 @@ contains
     type(error_t), allocatable, intent(out) :: error
     real(wp), intent(in), optional :: sigma0, gravity
     integer :: i, j, n
+    call clear(self)
     if (size(bodies) < 1) then
       call make_error(error, RD_ERR_INPUT, 'multibody: at least one body is needed'); return
     end if
@@ -139,6 +140,26 @@ contains
     allocate (self%frames(size(frame_offsets)), self%kin(size(bodies)), self%loads(size(bodies)))
     call self%override%init(size(bodies))
   end subroutine init
+
+  !> Forget a previous model (init may be called again on the same object).
+  subroutine clear(self)
+    class(multibody_t), intent(inout) :: self
+    if (allocated(self%bodies)) deallocate (self%bodies)
+    if (allocated(self%frame_offset)) deallocate (self%frame_offset)
+    if (allocated(self%elements)) deallocate (self%elements)
+    if (allocated(self%providers)) deallocate (self%providers)
+    if (allocated(self%free_index)) deallocate (self%free_index)
+    if (allocated(self%el_state_start)) deallocate (self%el_state_start)
+    if (allocated(self%frames)) deallocate (self%frames)
+    if (allocated(self%kin)) deallocate (self%kin)
+    if (allocated(self%loads)) deallocate (self%loads)
+    if (allocated(self%el_res)) deallocate (self%el_res)
+    self%track => null()
+    self%sigma0 = 0
+    self%gravity = standard_gravity
+    self%nfree = 0
+    self%nel_states = 0
+  end subroutine clear
 
   !> Add a force element (copied). Its internal states are appended to the state vector.
   subroutine add_element(self, element, error)
