@@ -33,6 +33,7 @@ module rd_survey_track
     real(wp), allocatable :: chord(:)        !< spline parameter t at the points [m]
     real(wp), allocatable :: knot_sigma(:)   !< horizontal arc length at the points [m]
     real(wp), allocatable :: knot_heading(:) !< unwrapped heading at the points [rad]
+    real(wp), allocatable :: knot_rate(:)    !< dt/dsigma = 1/|v| at the points [-]
     real(wp), allocatable :: plan(:, :, :)   !< x, y spline coefficients (0:3, n-1, 2) in t
     real(wp), allocatable :: profile(:, :, :) !< z, h spline coefficients (0:3, n-1, 2) in sigma
     real(wp) :: cant_base = 1.5_wp
@@ -83,7 +84,7 @@ contains
       call make_error(error, RD_ERR_INPUT, where // ': cant_base and gauge must be > 0 m')
       return
     end if
-    allocate (track%chord(n), track%knot_sigma(n), track%knot_heading(n))
+    allocate (track%chord(n), track%knot_sigma(n), track%knot_heading(n), track%knot_rate(n))
     track%chord(1) = 0
     do i = 2, n
       step = hypot(x(i) - x(i - 1), y(i) - y(i - 1))
@@ -127,7 +128,9 @@ contains
         return
       end if
       track%knot_heading(i + 1) = track%knot_heading(i) + dpsi
+      track%knot_rate(i) = 1 / speed(track, i, 0.0_wp)
     end do
+    track%knot_rate(n) = 1 / speed(track, n - 1, track%chord(n) - track%chord(n - 1))
     values(:, 1) = z
     values(:, 2) = superelevation
     call spline_not_a_knot(track%knot_sigma, values, track%profile, error)
@@ -210,17 +213,25 @@ contains
     type(track_point_t) :: p
     real(wp) :: target, span, d, correction, v, x1, y1, x2, y2, x3, y3, cross2, dot2, v3
     real(wp) :: psi, kappa, dkappa, ds, z0, z1, z2, z3, h0, h1, h2
-    real(wp) :: cx(0:3), cy(0:3), cz(0:3), ch(0:3)
+    real(wp) :: cx(0:3), cy(0:3), cz(0:3), ch(0:3), width, s
     integer :: iteration
 
     target = sigma - track%knot_sigma(i)
     span = track%chord(i + 1) - track%chord(i)
-    d = span * target / (track%knot_sigma(i + 1) - track%knot_sigma(i))
+    ! first guess: cubic Hermite of t(sigma) from the knot values and slopes 1/|v|; Newton
+    ! then usually needs one or two steps
+    width = track%knot_sigma(i + 1) - track%knot_sigma(i)
+    s = target / width
+    d = width * (s * (s - 1)**2 * track%knot_rate(i) + s * s * (s - 1) * track%knot_rate(i + 1)) &
+        + span * s * s * (3 - 2 * s)
     do iteration = 1, 12
       v = speed(track, i, d)
       correction = (partial_length(track, i, d) - target) / v
       d = d - correction
-      if (abs(correction) <= 4 * epsilon(1.0_wp) * span) exit
+      ! Newton converges quadratically (error after the step ~ |v|'/(2|v|) correction^2,
+      ! and |v| ~ 1 varies slowly with the chord parameter): a step below sqrt(eps) span
+      ! leaves an error at rounding level
+      if (abs(correction) <= sqrt(epsilon(1.0_wp)) * span) exit
     end do
     cx = track%plan(:, i, 1)
     cy = track%plan(:, i, 2)
