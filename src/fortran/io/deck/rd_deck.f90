@@ -14,7 +14,7 @@
 !> by read_deck_file / read_deck_string as RD_ERR_INPUT with file:line.
 module rd_deck
   use rd_kinds, only: wp
-  use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_IO, RD_ERR_INTERNAL
+  use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_INTERNAL
   use rd_deck_text, only: deck_string_t, int_to_str, path_dir
   use rd_deck_schema, only: deck_schema_t, build_deck_schema, find_group, find_param, &
                             type_text, write_schema_markdown, PT_REAL, PT_INTEGER, PT_STRING, &

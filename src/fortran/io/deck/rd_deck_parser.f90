@@ -12,9 +12,9 @@
 module rd_deck_parser
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_IO
-  use rd_deck_text, only: deck_string_t, append_string, to_lower, int_to_str, real_to_str, is_integer_text, &
+  use rd_deck_text, only: deck_string_t, append_string, to_lower, int_to_str, is_integer_text, &
                           is_real_text, text_to_real, text_to_integer, text_to_logical, &
-                          path_join, path_dir, path_base, is_absolute_path, file_exists
+                          path_join, path_dir, is_absolute_path, file_exists
   use rd_deck_schema, only: deck_schema_t, group_schema_t, param_schema_t, find_group, &
                             find_param, suggest_name, range_text, PT_REAL, PT_INTEGER, &
                             PT_STRING, PT_LOGICAL, PT_REAL_ARRAY, PT_STRING_LIST

@@ -12,7 +12,7 @@ module rd_deck_resolve
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   use rd_deck_text, only: deck_string_t, single_string, int_to_str, real_to_str, path_join, path_stem
-  use rd_deck_schema, only: deck_schema_t, group_schema_t, param_schema_t, find_group, &
+  use rd_deck_schema, only: deck_schema_t, param_schema_t, find_group, &
                             find_param, suggest_name, PT_REAL, PT_INTEGER, PT_STRING, &
                             PT_LOGICAL, PT_REAL_ARRAY, PT_STRING_LIST, DEF_REQUIRED, DEF_VALUE, &
                             DEF_OPTIONAL, DEF_PREVIOUS, DEF_DECK_STEM
