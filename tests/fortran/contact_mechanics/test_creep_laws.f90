@@ -177,6 +177,43 @@ program test_creep_laws
   call odd_continuous(fastsim_coarse, 'fastsim')
   call odd_continuous(polach, 'polach')
 
+  ! --- FASTSIM elliptic (Hertz) traction bound: same linear limit, saturates at mu N,
+  ! and differs from the parabolic bound in the partly-slipping range
+  options%bound = 'elliptic'; options%grid_nx = 40; options%grid_ny = 40
+  call make_creep_law('fastsim', options, law, error); call must_ok()
+  call law%compute(patch, cr([1.0e-7_wp, 0.0_wp, 0.0_wp]), f)
+  call linear%compute(patch, cr([1.0e-7_wp, 0.0_wp, 0.0_wp]), f_lin)
+  call check('fastsim elliptic linear limit', f%fx, f_lin%fx, 2.0_wp / 40**2)
+  call law%compute(patch, cr([0.0_wp, 0.5_wp, 0.0_wp]), f)
+  call check('fastsim elliptic saturation', hypot(f%fx, f%fy), lim, 0.01_wp)
+  call law%compute(patch, cr([1.0e-3_wp, 0.0_wp, 0.0_wp]), f)
+  options%bound = 'parabolic'
+  call make_creep_law('fastsim', options, law, error); call must_ok()
+  call law%compute(patch, cr([1.0e-3_wp, 0.0_wp, 0.0_wp]), f2)
+  if (.not. abs(f%fx / f2%fx - 1.0_wp) > 0.005_wp) call fail('elliptic and parabolic bounds must differ')
+  options%grid_nx = 20; options%grid_ny = 20
+
+  ! --- Polach 2005 extension: k_A, k_S scale the initial slope by (k_A + k_S)/2
+  ! (F ~ 2 mu N/pi (k_A + k_S) eps); the friction falls to A mu0 at large slip velocity
+  options%polach_ka = 0.5_wp; options%polach_ks = 1.0_wp
+  call make_creep_law('polach', options, law, error); call must_ok()
+  call law%compute(patch, cr([1.0e-7_wp, 0.0_wp, 0.0_wp]), f)
+  call linear%compute(patch, cr([1.0e-7_wp, 0.0_wp, 0.0_wp]), f_lin)
+  call check('polach k_A slope', f%fx, 0.75_wp * f_lin%fx, 1.0e-6_wp)
+  options%polach_ka = 1.0_wp
+  options%polach_friction_ratio = 0.4_wp; options%polach_friction_decay = 0.6_wp
+  call make_creep_law('polach', options, law, error); call must_ok()
+  patch%rolling_speed = 10.0_wp          ! slip velocity w = 10 m/s * 0.5 = 5 m/s
+  call law%compute(patch, cr([0.5_wp, 0.0_wp, 0.0_wp]), f)
+  call check('polach friction decay', abs(f%fx), &
+             patch%normal_force * 0.3_wp * (0.6_wp * exp(-0.6_wp * 5.0_wp) + 0.4_wp), 0.01_wp)
+  patch%rolling_speed = 0.0_wp
+  options%polach_friction_ratio = 1.0_wp; options%polach_friction_decay = 0.0_wp
+  options%polach_ka = 1.5_wp
+  call make_creep_law('polach', options, law, error)
+  if (.not. allocated(error)) call fail('k_A > 1 must be refused')
+  options%polach_ka = 1.0_wp
+
   ! --- unloaded patch: zero forces
   patch%normal_force = 0.0_wp
   call fastsim%compute(patch, cr([1.0e-3_wp, 0.0_wp, 0.0_wp]), f)

@@ -140,6 +140,9 @@ program test_hertz
   call hertz_init(params, error)
   call check('default G', params%shear_modulus, 82.0e9_wp, 1.0e-12_wp)
   call check('default nu', params%poisson, 0.28_wp, 1.0e-12_wp)
+  call hertz_init(params, error, shear_modulus=80.0e9_wp, poisson_wheel=0.3_wp)
+  call check('G given: E*', params%e_star, 2.0_wp * 80.0e9_wp * 1.3_wp / (2.0_wp * (1.0_wp - 0.09_wp)), 1.0e-12_wp)
+  call check('G given: G', params%shear_modulus, 80.0e9_wp, 1.0e-12_wp)
 
   if (failures > 0) then
     print '(a,i0,a)', 'test_hertz: ', failures, ' failure(s)'

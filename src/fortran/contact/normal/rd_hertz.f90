@@ -83,13 +83,15 @@ contains
   !> (same-material default G = 82 GPa, nu = 0.28 gives E = 2 G (1 + nu) = 209.92 GPa).
   !> `method` is 'elliptic' (default) or 'table'; `max_equivalent_radius` [m] bounds the
   !> equivalent radius 1/(2A) per direction for conformal or concave contact (default 10 m).
+  !> `shear_modulus` [Pa] instead of Young's moduli gives both bodies E = 2 G (1 + nu).
   subroutine hertz_init(params, error, young_wheel, poisson_wheel, young_rail, poisson_rail, &
-                        method, max_equivalent_radius)
+                        method, max_equivalent_radius, shear_modulus)
     type(hertz_params_t), intent(out) :: params
     type(error_t), allocatable, intent(out) :: error
     real(wp), intent(in), optional :: young_wheel, poisson_wheel, young_rail, poisson_rail
     character(len=*), intent(in), optional :: method
     real(wp), intent(in), optional :: max_equivalent_radius
+    real(wp), intent(in), optional :: shear_modulus
     real(wp) :: ew, nw, er, nr, gw, gr, rmax
     character(len=32) :: word
 
@@ -97,6 +99,14 @@ contains
     nr = nw; if (present(poisson_rail)) nr = poisson_rail
     ew = 2.0_wp * 82.0e9_wp * (1.0_wp + nw); if (present(young_wheel)) ew = young_wheel
     er = ew; if (present(young_rail)) er = young_rail
+    if (present(shear_modulus)) then
+      if (present(young_wheel) .or. present(young_rail)) then
+        call make_error(error, RD_ERR_INPUT, 'hertz_init: give Young''s moduli or the shear modulus, not both')
+        return
+      end if
+      ew = 2.0_wp * shear_modulus * (1.0_wp + nw)
+      er = 2.0_wp * shear_modulus * (1.0_wp + nr)
+    end if
     rmax = 10.0_wp; if (present(max_equivalent_radius)) rmax = max_equivalent_radius
     word = 'elliptic'; if (present(method)) word = adjustl(method)
 
