@@ -49,6 +49,8 @@ contains
   !> v_wheel_centre, v_wheel_point (the wheel material point at the contact), v_rail_point
   !> (rail material point at the contact, zero on a fixed track), omega_wheel, omega_rail
   !> [rad/s], contact_frame(:, 1:3) = unit vectors x_c, y_c, n as columns.
+  !> The wheel point velocity is thesis eq. 4.80 = wheelset velocity (4.81) + circumferential
+  !> velocity (4.82); projected on the contact frame as eqs. 3.34, 3.36, 3.38.
   !> Rolling speed V = ( |forward| + |circumferential| ) / 2 with
   !> forward = (v_wheel_centre - v_rail_point) . x_c and
   !> circumferential = (v_wheel_centre - v_wheel_point) . x_c (the omega x r part).
