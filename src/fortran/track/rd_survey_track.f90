@@ -30,6 +30,7 @@ module rd_survey_track
   integer, parameter :: n_gauss = 10
 
   type, extends(track_geometry_t) :: survey_track_t
+    private   ! parameters fixed by the build routine; use evaluate() and length()
     real(wp), allocatable :: chord(:)        !< spline parameter t at the points [m]
     real(wp), allocatable :: knot_sigma(:)   !< horizontal arc length at the points [m]
     real(wp), allocatable :: knot_heading(:) !< unwrapped heading at the points [rad]

@@ -70,6 +70,7 @@ module rd_track
   end type segment_t
 
   type, extends(track_geometry_t) :: track_t
+    private   ! parameters fixed by the build routine; use evaluate() and length()
     type(segment_t), allocatable :: segments(:)
     real(wp), allocatable :: starts(:)       !< segment start sigmas, starts(n+1) = length
     real(wp) :: cant_base = 1.5_wp, gauge = 1.435_wp
