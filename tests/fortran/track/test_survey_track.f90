@@ -254,6 +254,11 @@ contains
     call build_survey_track(track, [0.0_wp, 5.0_wp, 10.0_wp, 15.0_wp], [0.0_wp, nan, 0.0_wp, 0.0_wp], &
                             [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], error, origin='survey.txt')
     call check_message(error, RD_ERR_INPUT, 'build: NaN', 'survey.txt', 'finite')
+    ! points out of order: the track would reverse between points 2 and 3
+    call build_survey_track(track, [0.0_wp, 5.0_wp, 0.0_wp, 5.0_wp, 10.0_wp], [0.0_wp, 0.0_wp, 0.5_wp, 1.0_wp, 1.0_wp], &
+                            [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], error, &
+                            origin='survey.txt')
+    call check_message(error, RD_ERR_INPUT, 'build: zig-zag points', 'survey.txt', 'between points')
   end subroutine test_build_errors
 
   function scratch_name() result(path)
