@@ -236,6 +236,10 @@ contains
     call one_clothoid('150 m reverse -1/500 -> 1/400', -1 / 500.0_wp, 1 / 400.0_wp, 150.0_wp)
     call one_clothoid('20 m 1/2000 -> 1/2001 (tiny rate)', 1 / 2000.0_wp, 1 / 2001.0_wp, 20.0_wp)
     call one_clothoid('300 m 1/50 -> 1/40 (long, tight)', 1 / 50.0_wp, 1 / 40.0_wp, 300.0_wp)
+    ! the continued-fraction range of G (|t| > 1.5) on both sides of the inflection and
+    ! across it (unrealistic radii, chosen to exercise each branch of rd_clothoid)
+    call one_clothoid('300 m 1/40 -> 1/50 (decreasing)', 1 / 40.0_wp, 1 / 50.0_wp, 300.0_wp)
+    call one_clothoid('400 m 1/20 -> -1/20 (reverse, large t)', 1 / 20.0_wp, -1 / 20.0_wp, 400.0_wp)
   end subroutine test_clothoids_against_quadrature
 
   subroutine one_clothoid(name, k0, k1, length)
