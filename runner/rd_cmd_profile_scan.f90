@@ -1,0 +1,236 @@
+!> `raildyn profile-scan`: wheel-rail contact characteristics (contact table) and
+!> equivalent conicity of a wheel/rail pair.
+!>
+!>   raildyn profile-scan [--wheel FILE|s1002] [--rail FILE|60e1|54e1|uic60]
+!>                        [--inclination 0.025] [--rail-precant 0] [--gauge 1.435]
+!>                        [--back-to-back 1.360] [--radius 0.46] [--ymax 0.010]
+!>                        [--step 0.0005] [--yaw-per-shift 0] [--amplitude 0.003]...
+!>                        [--lowering 5e-6] [--csv OUT.csv]
+!> Profile files: SIMPACK .prw/.prr or y-z tables (rd_profile_io). --rail-precant is the
+!> inclination already contained in a rail file (e.g. 0.025 for the Manchester UIC60 v3).
+!> All values SI. Prints a table and the equivalent conicities; exit status 0, 1 when the
+!> computation fails, 2 for bad usage (one line on stderr).
+module rd_cmd_profile_scan
+  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use rd_kinds, only: wp
+  use rd_error, only: error_t, make_error, RD_ERR_IO
+  use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL
+  use rd_profile_io, only: read_profile_file
+  use rd_profile_analytic, only: s1002_profile, rail_head_profile, RAIL_60E1, RAIL_54E1
+  use rd_contact_surfaces, only: track_placement_t, surface_options_t
+  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact
+  use rd_contact_patch, only: MAX_PATCHES
+  use rd_profile_scan, only: profile_scan_t, run_profile_scan, equivalent_conicity
+  implicit none
+  private
+  public :: run_profile_scan_command, write_profile_scan_csv
+
+  character(len=*), parameter :: usage = 'usage: raildyn profile-scan [--wheel FILE|s1002] ' // &
+    '[--rail FILE|60e1|54e1|uic60] [--inclination 0.025] [--rail-precant 0] [--gauge 1.435] ' // &
+    '[--back-to-back 1.360] [--radius 0.46] [--ymax 0.010] [--step 0.0005] [--yaw-per-shift 0] ' // &
+    '[--amplitude 0.003]... [--lowering 5e-6] [--csv OUT.csv]'
+
+contains
+
+  subroutine run_profile_scan_command(args, status)
+    character(len=*), intent(in) :: args(:)
+    integer, intent(out) :: status
+    character(len=:), allocatable :: wheel_name, rail_name, csv
+    type(track_placement_t) :: pl
+    type(surface_options_t) :: opt
+    type(profile_t) :: wprof, rprof
+    type(contact_geometry_t) :: geo
+    type(profile_scan_t) :: scan
+    type(error_t), allocatable :: error
+    real(wp) :: ymax, step, yaw_per_shift, lowering, value, amps(32), lam
+    integer :: i, namp, k
+    logical :: ok
+
+    status = 2
+    wheel_name = 's1002'; rail_name = '60e1'; csv = ''
+    ymax = 0.010_wp; step = 0.0005_wp; yaw_per_shift = 0; lowering = 5.0e-6_wp
+    namp = 0
+    i = 1
+    do while (i <= size(args))
+      select case (trim(args(i)))
+      case ('--help', '-h')
+        write (output_unit, '(a)') usage
+        status = 0
+        return
+      case ('--wheel', '--rail', '--csv')
+        if (i + 1 > size(args)) then
+          call bad(trim(args(i)) // ' expects a value'); return
+        end if
+        select case (trim(args(i)))
+        case ('--wheel'); wheel_name = trim(args(i + 1))
+        case ('--rail'); rail_name = trim(args(i + 1))
+        case ('--csv'); csv = trim(args(i + 1))
+        end select
+        i = i + 2
+        cycle
+      case ('--inclination', '--rail-precant', '--gauge', '--back-to-back', '--radius', '--ymax', '--step', &
+            '--yaw-per-shift', '--amplitude', '--lowering')
+        if (i + 1 > size(args)) then
+          call bad(trim(args(i)) // ' expects a number (SI units)'); return
+        end if
+        read (args(i + 1), *, iostat=k) value
+        ok = k == 0
+        if (ok) ok = abs(value) <= huge(1.0_wp) .and. value == value
+        if (.not. ok) then
+          call bad(trim(args(i)) // " expects a number (SI units), got '" // trim(args(i + 1)) // "'"); return
+        end if
+        select case (trim(args(i)))
+        case ('--inclination'); pl%inclination = value
+        case ('--rail-precant'); pl%rail_precant = value
+        case ('--gauge'); pl%gauge = value
+        case ('--back-to-back'); pl%back_to_back = value
+        case ('--radius'); pl%nominal_radius = value
+        case ('--ymax'); ymax = value
+        case ('--step'); step = value
+        case ('--yaw-per-shift'); yaw_per_shift = value
+        case ('--lowering'); lowering = value
+        case ('--amplitude')
+          if (namp == size(amps)) then
+            call bad('at most 32 --amplitude values'); return
+          end if
+          namp = namp + 1
+          amps(namp) = value
+        end select
+        i = i + 2
+        cycle
+      case default
+        call bad("unknown option '" // trim(args(i)) // "'"); return
+      end select
+    end do
+    if (namp == 0) then
+      namp = 1; amps(1) = 0.003_wp
+    end if
+
+    status = 1
+    select case (lower(wheel_name))
+    case ('s1002')
+      call s1002_profile(wprof, 1.0e-4_wp, error)
+    case default
+      call read_profile_file(wheel_name, PROFILE_WHEEL, wprof, error)
+    end select
+    if (.not. allocated(error)) then
+      select case (lower(rail_name))
+      case ('60e1', 'uic60')
+        call rail_head_profile(RAIL_60E1, rprof, 1.0e-4_wp, error)
+      case ('54e1')
+        call rail_head_profile(RAIL_54E1, rprof, 1.0e-4_wp, error)
+      case default
+        call read_profile_file(rail_name, PROFILE_RAIL, rprof, error)
+      end select
+    end if
+    if (.not. allocated(error)) call init_strip_contact(geo, wprof, rprof, pl, opt, error)
+    if (.not. allocated(error)) call run_profile_scan(geo, ymax, step, yaw_per_shift, lowering, scan, error)
+    if (allocated(error)) then
+      write (error_unit, '(a)') 'raildyn profile-scan: ' // error%message
+      return
+    end if
+
+    write (output_unit, '(a)') '# profile scan: wheel ' // wheel_name // ', rail ' // rail_name
+    write (output_unit, '(a,f7.4,a,f6.3,a,f6.3,a,f6.3,a)') '# inclination ', pl%inclination, ', gauge ', pl%gauge, &
+      ' m, back-to-back ', pl%back_to_back, ' m, r0 ', pl%nominal_radius, ' m'
+    write (output_unit, '(a)') '#  y[mm]  roll[mrad] nL nR  rL[mm]    rR[mm]   dr[mm]  gL[rad]  gR[rad]'
+    do k = 1, scan%n
+      write (output_unit, '(f8.3,f10.4,2i3,2f10.3,f8.3,2f9.4)') 1000 * scan%y(k), 1000 * scan%roll(k), &
+        scan%n_patches(:, k), 1000 * scan%rolling_radius(1, :, k), 1000 * scan%delta_r(k), scan%contact_angle(1, :, k)
+    end do
+    do k = 1, namp
+      lam = equivalent_conicity(scan, amps(k), error)
+      if (allocated(error)) then
+        write (error_unit, '(a)') 'raildyn profile-scan: ' // error%message
+        return
+      end if
+      write (output_unit, '(a,f7.4,a,f8.4)') 'equivalent conicity at amplitude ', 1000 * amps(k), ' mm: ', lam
+    end do
+    if (len(csv) > 0) then
+      call write_profile_scan_csv(csv, scan, error)
+      if (allocated(error)) then
+        write (error_unit, '(a)') 'raildyn profile-scan: ' // error%message
+        return
+      end if
+      write (output_unit, '(a)') 'wrote ' // csv
+    end if
+    status = 0
+  contains
+    subroutine bad(msg)
+      character(len=*), intent(in) :: msg
+      write (error_unit, '(a)') 'raildyn profile-scan: ' // msg
+      write (error_unit, '(a)') usage
+    end subroutine bad
+  end subroutine run_profile_scan_command
+
+  !> One row per shift. Columns (SI): y_m, yaw_rad, z_m, roll_rad, delta_r_m, then per side
+  !> (left, right): <side>_n_patches and per patch p = 1..4 (by decreasing penetration)
+  !> <side>_p<p>_s_wheel_m, _u_rail_m, _y_rail_m, _rolling_radius_m, _contact_angle_rad
+  !> (empty fields for absent patches).
+  subroutine write_profile_scan_csv(path, scan, error)
+    character(len=*), intent(in) :: path
+    type(profile_scan_t), intent(in) :: scan
+    type(error_t), allocatable, intent(out) :: error
+    character(len=*), parameter :: side_name(2) = ['left ', 'right']
+    character(len=:), allocatable :: head
+    character(len=40) :: pre
+    integer :: u, ios, k, s, p
+    open (newunit=u, file=path, status='replace', action='write', iostat=ios)
+    if (ios /= 0) then
+      call make_error(error, RD_ERR_IO, 'cannot write ' // path)
+      return
+    end if
+    head = 'y_m,yaw_rad,z_m,roll_rad,delta_r_m'
+    do s = 1, 2
+      head = head // ',' // trim(side_name(s)) // '_n_patches'
+      do p = 1, MAX_PATCHES
+        write (pre, '(a,"_p",i0,"_")') trim(side_name(s)), p
+        head = head // ',' // trim(pre) // 's_wheel_m,' // trim(pre) // 'u_rail_m,' // trim(pre) // 'y_rail_m,' // &
+          trim(pre) // 'rolling_radius_m,' // trim(pre) // 'contact_angle_rad'
+      end do
+    end do
+    write (u, '(a)') head
+    do k = 1, scan%n
+      write (u, '(a)', advance='no') num(scan%y(k)) // ',' // num(scan%yaw(k)) // ',' // num(scan%z(k)) // ',' // &
+        num(scan%roll(k)) // ',' // num(scan%delta_r(k))
+      do s = 1, 2
+        write (u, '(",",i0)', advance='no') scan%n_patches(s, k)
+        do p = 1, MAX_PATCHES
+          if (p <= scan%n_patches(s, k)) then
+            write (u, '(a)', advance='no') ',' // num(scan%s_wheel(p, s, k)) // ',' // num(scan%u_rail(p, s, k)) // &
+              ',' // num(scan%y_rail(p, s, k)) // ',' // num(scan%rolling_radius(p, s, k)) // ',' // &
+              num(scan%contact_angle(p, s, k))
+          else
+            write (u, '(a)', advance='no') ',,,,,'
+          end if
+        end do
+      end do
+      write (u, '(a)') ''
+    end do
+    close (u)
+  end subroutine write_profile_scan_csv
+
+  !> A number in CSV: shortest round-trip-safe exponent form, no blanks, no negative zero.
+  function num(x) result(t)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: t
+    character(len=32) :: b
+    if (x == 0) then
+      t = '0'
+      return
+    end if
+    write (b, '(es23.15e3)') x
+    t = trim(adjustl(b))
+  end function num
+
+  pure function lower(s) result(t)
+    character(len=*), intent(in) :: s
+    character(len=len(s)) :: t
+    integer :: i
+    t = s
+    do i = 1, len(s)
+      if (s(i:i) >= 'A' .and. s(i:i) <= 'Z') t(i:i) = achar(iachar(s(i:i)) + 32)
+    end do
+  end function lower
+
+end module rd_cmd_profile_scan
