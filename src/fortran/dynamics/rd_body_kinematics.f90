@@ -12,7 +12,7 @@ module rd_body_kinematics
   implicit none
   private
   public :: body_kinematics_t, body_rotation, angle_rate_matrix, angle_rate_matrix_dot
-  public :: compute_body_kinematics, ground_kinematics
+  public :: compute_body_kinematics, ground_kinematics, inverse_angle_rate, frame_rate_shift
 
   !> Everything about one body's motion at one instant. Vectors in fixed-frame components
   !> unless the name says otherwise.
@@ -75,6 +75,28 @@ contains
     hd(:, 2) = [-st * dtheta, 0.0_wp, ct * dtheta]
     hd(:, 3) = 0
   end function angle_rate_matrix_dot
+
+  !> H^{-1} w: angle rates (dpsi, dphi, dtheta) from a body-component angular velocity w
+  !> (det H = cos(phi)).
+  pure function inverse_angle_rate(phi, theta, w) result(ad)
+    real(wp), intent(in) :: phi, theta, w(3)
+    real(wp) :: ad(3)
+    real(wp) :: ct, st
+    ct = cos(theta); st = sin(theta)
+    ad(1) = (-st * w(1) + ct * w(3)) / cos(phi)
+    ad(2) = ct * w(1) + st * w(3)
+    ad(3) = w(2) - sin(phi) * ad(1)
+  end function inverse_angle_rate
+
+  !> The shift c(q, Omega) between the relative rates and the generalized velocities the
+  !> state holds, nu = qdot + c (docs/theory.md section 5): c = (Omega x w_bar,
+  !> H^{-1} B^T Omega). nu is continuous where the frame's angular velocity jumps.
+  pure function frame_rate_shift(q, omega_frame) result(c)
+    real(wp), intent(in) :: q(6), omega_frame(3)
+    real(wp) :: c(6)
+    c(1:3) = cross(omega_frame, q(1:3))
+    c(4:6) = inverse_angle_rate(q(5), q(6), matmul(transpose(body_rotation(q(4:6))), omega_frame))
+  end function frame_rate_shift
 
   !> Fill the kinematics of a body with coordinates q, rates qdot relative to the track
   !> frame `tp` moving at speed v_frame (acceleration a_frame).

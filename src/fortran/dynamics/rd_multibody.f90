@@ -3,10 +3,15 @@
 !> the equations as implemented, with the thesis' typos corrected, are in docs/theory.md).
 !>
 !> State layout (documented for the integrators, the outputs and the C API):
-!>   y = [ q_f(1:nfree) ; qdot_f(1:nfree) ; x_el(1:nel_states) ]
+!>   y = [ q_f(1:nfree) ; nu_f(1:nfree) ; x_el(1:nel_states) ]
 !> q_f are the free coordinates of all bodies, body after body, each body in the order
 !> (x, y, z, psi, phi, theta) with its frozen coordinates skipped; for a wheelset the
-!> pitch slot holds the spin deviation beta (theta = s(t)/r0 + beta) and its rate dbeta/dt.
+!> pitch slot holds the spin deviation beta (theta = s(t)/r0 + beta).
+!> nu_f are generalized velocities nu = qdot + c(q, Omega), c = (Omega x w_bar,
+!> H^{-1} B^T Omega) (docs/theory.md section 5): on straight track nu = qdot; they stay
+!> continuous where the frame's angular velocity jumps (a linear cant ramp starts, a
+!> curve joins a straight), so the absolute velocities do. The wheelset spin slot holds
+!> nu_theta - V/r0 (= dbeta/dt on straight track). Relative rates for output: kin(i)%qdot.
 !> x_el are the elements' internal states, element after element.
 !>
 !> Frozen coordinates are not in the state: they keep q0 and zero rate (a wheelset's frozen
@@ -22,7 +27,8 @@ module rd_multibody
   use rd_speed_law, only: speed_law_t
   use rd_body_spec, only: body_spec_t, validate_body_spec, DOF_PITCH
   use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics, ground_kinematics, &
-                                angle_rate_matrix, angle_rate_matrix_dot
+                                angle_rate_matrix, angle_rate_matrix_dot, inverse_angle_rate, &
+                                frame_rate_shift
   use rd_force_provider, only: force_provider_t, body_load_t
   use rd_force_element, only: force_element_t, element_result_t
   use rd_external_loads, only: override_loads_t
@@ -230,6 +236,7 @@ contains
     type(error_t), allocatable, intent(out) :: error
     integer :: i, j, k, e, n
     type(body_kinematics_t) :: kg
+    real(wp) :: c(6)
     if (size(y) /= self%state_size()) then
       call make_error(error, RD_ERR_INPUT, 'multibody%initial_state: state vector has the wrong size'); return
     end if
@@ -237,10 +244,16 @@ contains
     do i = 1, size(self%bodies)
       do j = 1, 6
         k = self%free_index(j, i)
-        if (k > 0) then
-          y(k) = self%bodies(i)%q0(j)
-          y(self%nfree + k) = self%bodies(i)%qdot0(j)
-        end if
+        if (k > 0) y(k) = self%bodies(i)%q0(j)
+      end do
+    end do
+    ! frames and angles at t = 0, then nu = qdot0 + c(q0, Omega(0))
+    call self%evaluate_kinematics(0.0_wp, y)
+    do i = 1, size(self%bodies)
+      c = frame_rate_shift(self%kin(i)%q, self%kin(i)%omega_frame)
+      do j = 1, 6
+        k = self%free_index(j, i)
+        if (k > 0) y(self%nfree + k) = self%bodies(i)%qdot0(j) + c(j)
       end do
     end do
     call self%evaluate_kinematics(0.0_wp, y)
@@ -264,7 +277,7 @@ contains
     class(multibody_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
-    real(wp) :: v, vdot, s, q(6), qdot(6)
+    real(wp) :: v, vdot, s, q(6), qdot(6), c(6)
     integer :: i, j, k
     v = self%speed%speed(t)
     vdot = self%speed%acceleration(t)
@@ -275,19 +288,21 @@ contains
     do i = 1, size(self%bodies)
       associate (b => self%bodies(i))
         q = b%q0
+        do j = 1, 6
+          k = self%free_index(j, i)
+          if (k > 0) q(j) = y(k)
+        end do
+        ! theta = s/r0 + beta (docs/theory.md, spin deviation)
+        if (b%is_wheelset) q(DOF_PITCH) = s / b%r0 + q(DOF_PITCH)
+        ! relative rates from the generalized velocities nu = qdot + c(q, Omega)
+        c = frame_rate_shift(q, v * self%frames(b%frame)%omega)
         qdot = 0
         do j = 1, 6
           k = self%free_index(j, i)
-          if (k > 0) then
-            q(j) = y(k)
-            qdot(j) = y(self%nfree + k)
-          end if
+          if (k > 0) qdot(j) = y(self%nfree + k) - c(j)
         end do
-        if (b%is_wheelset) then
-          ! theta = s/r0 + beta, dtheta/dt = V/r0 + dbeta/dt (docs/theory.md, spin deviation)
-          q(DOF_PITCH) = s / b%r0 + q(DOF_PITCH)
-          qdot(DOF_PITCH) = v / b%r0 + qdot(DOF_PITCH)
-        end if
+        ! the spin slot holds nu_theta - V/r0; a frozen spin rolls (dbeta/dt = 0)
+        if (b%is_wheelset) qdot(DOF_PITCH) = qdot(DOF_PITCH) + v / b%r0
         call compute_body_kinematics(self%kin(i), self%frames(b%frame), v, vdot, q, qdot, b%is_wheelset)
       end associate
     end do
@@ -385,7 +400,7 @@ contains
     real(wp), intent(inout) :: ydot(:)
     real(wp) :: a(3, 3), om(3), al(3), a0(3), w(3), wd(3), wdd(3), f(3)
     real(wp) :: h(3, 3), hd(3, 3), hatt(3, 3), jm(3, 3), mgen(3, 3), g(3), mb(3), mab(3)
-    real(wp) :: omb(3), omrel(3), btom(3), angd(3), angdd(3), acc_pres(3)
+    real(wp) :: omb(3), omrel(3), btom(3), angd(3), angdd(3), acc_pres(3), cdot(6), ca(3)
     logical :: free_ang(3)
     integer :: j, k
     associate (b => self%bodies(i), kin => self%kin(i), ld => self%loads(i))
@@ -427,15 +442,20 @@ contains
       call solve_subset(mgen, g, free_ang, acc_pres, angdd)
       kin%qddot(1:3) = wdd
       kin%qddot(4:6) = angdd
+      ! d/dt of the shift c: (Omega' x w + Omega x w', H^{-1} (g' - H' c_a)), g = B^T Omega
+      cdot(1:3) = cross(al, w) + cross(om, wd)
+      ca = inverse_angle_rate(kin%q(5), kin%q(6), btom)
+      cdot(4:6) = inverse_angle_rate(kin%q(5), kin%q(6), &
+                  -cross(omrel, btom) + matmul(transpose(kin%b), al) - matmul(hd, ca))
       do j = 1, 6
         k = self%free_index(j, i)
         if (k == 0) cycle
         if (j == DOF_PITCH .and. b%is_wheelset) then
           ydot(k) = kin%qdot(j) - kin%speed / b%r0        ! dbeta/dt
-          ydot(self%nfree + k) = kin%qddot(j) - kin%accel / b%r0
+          ydot(self%nfree + k) = kin%qddot(j) + cdot(j) - kin%accel / b%r0
         else
           ydot(k) = kin%qdot(j)
-          ydot(self%nfree + k) = kin%qddot(j)
+          ydot(self%nfree + k) = kin%qddot(j) + cdot(j)
         end if
       end do
     end associate

@@ -6,8 +6,11 @@
 !> 1e-11: the track-frame RHS jumps where dw/dsigma jumps, at clothoid ends, and a
 !> fixed-step method would lose its order there) and compared in position and orientation:
 !>  1. an exact canted circle (written in the test) at constant speed;
-!>  2. rd_track: straight -> clothoid (cosine cant ramp, vertical curve) -> canted curve,
-!>     with a speed ramp (dV/dt terms).
+!>  2. rd_track: straight -> clothoid (cosine cant ramp) -> canted curve, with a speed ramp
+!>     (dV/dt terms);
+!>  3. rd_track: straight -> clothoid with a LINEAR cant ramp and a gradient change ->
+!>     canted curve, the body 8 m behind its frame: the frame's angular velocity jumps at
+!>     the clothoid ends, which the generalized velocities of the state absorb (theory.md 5).
 !> The independent absolute-coordinate model of the test below.
 module absolute_body_model
   use rd_kinds, only: wp
@@ -27,6 +30,7 @@ module absolute_body_model
     class(track_geometry_t), pointer :: track => null()
     type(speed_law_t) :: speed
     real(wp) :: sigma0 = 0
+    real(wp) :: x_offset = 0     !< ground points' x in the track frame, added to pts
   contains
     procedure :: rhs => abs_rhs
     procedure :: state_size => abs_size
@@ -59,7 +63,7 @@ contains
     f = [0.0_wp, 0.0_wp, -m * g]
     mom = 0
     do i = 1, 2
-      p1 = tp%r + matmul(a, pts(:, i))                     ! on the track frame
+      p1 = tp%r + matmul(a, pts(:, i) + [self%x_offset, 0.0_wp, 0.0_wp])   ! on the track frame
       p2 = y(1:3) + matmul(r, pts(:, i))                   ! on the body
       v1 = v * tp%dr + cross(wa, p1 - tp%r)
       v2 = y(4:6) + cross(matmul(r, wb), p2 - y(1:3))
@@ -138,12 +142,23 @@ program test_absolute_formulation
   call table_speed(law, [0.0_wp, 4.0_wp], [30.0_wp, 45.0_wp], error)
   call compare('rd_track straight-clothoid-curve, speed ramp', segtrack, law, 10.0_wp, 5.0_wp)
 
+  specs(2)%cant_ramp = 'linear'; specs(2)%gradient_end = 0.01_wp
+  allocate (tr)
+  call build_track(tr, settings, specs, error)
+  if (allocated(error)) then
+    print '(a)', 'FAIL: build_track: ' // error%message; error stop 1
+  end if
+  segtrack => tr
+  call compare('rd_track linear cant ramp and gradient change, body 8 m behind its frame', segtrack, law, 20.0_wp, 5.0_wp, &
+               x_offset=-8.0_wp)
+
   if (failures > 0) error stop 1
   print '(a)', 'test_absolute_formulation: all checks passed'
 
 contains
 
-  subroutine compare(label, track, speed, sigma0, t_end)
+  subroutine compare(label, track, speed, sigma0, t_end, x_offset)
+    real(wp), intent(in), optional :: x_offset
     character(*), intent(in) :: label
     class(track_geometry_t), pointer, intent(in) :: track
     type(speed_law_t), intent(in) :: speed
@@ -167,10 +182,11 @@ contains
     body(1)%inertia = jj
     body(1)%q0 = [0.01_wp, 0.02_wp, 0.03_wp, 0.05_wp, -0.04_wp, 0.03_wp]
     body(1)%qdot0 = [0.1_wp, -0.2_wp, 0.05_wp, 0.3_wp, 0.2_wp, -0.25_wp]
+    if (present(x_offset)) body(1)%q0(1) = x_offset
     call mb%init(body, [0.0_wp], track, speed, error, sigma0=sigma0)
     do i = 1, 2
       spring%body1 = 0; spring%body2 = 1
-      spring%u1 = pts(:, i); spring%u2 = pts(:, i)
+      spring%u1 = pts(:, i) + [body(1)%q0(1), 0.0_wp, 0.0_wp]; spring%u2 = pts(:, i)
       spring%stiffness = kk; spring%damping = cc
       spring%preload = [0.0_wp, 0.0_wp, m * g / 2]
       call mb%add_element(spring, error)
@@ -179,7 +195,7 @@ contains
     call mb%initial_state(y, error)
 
     ! initial absolute state, from the relative one by the kinematics written here
-    ab%track => track; ab%speed = speed; ab%sigma0 = sigma0
+    ab%track => track; ab%speed = speed; ab%sigma0 = sigma0; ab%x_offset = body(1)%q0(1)
     tp = track%evaluate(sigma0)
     a = tp%a
     v0 = speed%speed(0.0_wp)
@@ -208,7 +224,7 @@ contains
       call mb%rhs(t, y, ydot, error, rec)
       dr = max(dr, norm2(mb%kin(1)%r - z(1:3)))
       drot = max(drot, maxval(abs(mb%kin(1)%rot - reshape(z(7:15), [3, 3]))))
-      scale = max(scale, norm2(mb%kin(1)%q(1:3)))
+      scale = max(scale, norm2(mb%kin(1)%q(1:3) - body(1)%q0(1:3)))   ! amplitude of the relative motion
     end do
     write (buf, '(a,es9.2,a,es9.2,a,f7.4,a)') 'max |dr| = ', dr, ' m, max |dR| = ', drot, &
       ' (relative motion ', scale, ' m)'
