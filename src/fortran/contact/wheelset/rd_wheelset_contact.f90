@@ -1,0 +1,348 @@
+!> The wheel-rail contact force provider: the contact pipeline assembled per wheelset
+!> (thesis 4.7-4.8; docs/theory_wheelset.md):
+!>
+!>   pose (y, z, roll, yaw relative to the track frame; the spin does not matter for a body
+!>   of revolution, so the geometry works in the intermediate frame A Rz(psi) Rx(phi),
+!>   thesis eq. 4.78)
+!>   -> geometry (patches per wheel) -> Hertz normal force from the penetration and the
+!>   principal curvatures (+ damping on the approach rate)
+!>   -> creepages from the velocity of the wheel's MATERIAL point at the contact relative to
+!>   the rail (fixed in the fixed frame), in contact-frame components (thesis 4.80-4.86)
+!>   -> creep law -> force N n + Fx x_c + Fy y_c and spin moment Mz n on the wheel
+!>   -> force at the CG and moment about the CG, fixed-frame components, added to the
+!>   wheelset's load. The multibody projects them on the generalized coordinates (H^T),
+!>   which is what thesis eqs. 4.87-4.102 intend (see the theory doc for their errors).
+!>
+!> Parameters are fixed by `init`; `add_forces` allocates nothing and keeps the per-patch
+!> results of the last evaluation in `results` for the outputs.
+module rd_wheelset_contact
+  use rd_kinds, only: wp
+  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_PHYSICS
+  use rd_rotation, only: cross
+  use rd_body_kinematics, only: body_kinematics_t
+  use rd_force_provider, only: force_provider_t, body_load_t
+  use rd_contact_patch, only: contact_patch_t, wheel_contact_t, PATCH_FLANGE_SPRING
+  use rd_contact_geometry, only: contact_geometry_t, wheelset_contact, CONTACT_MODEL_STRIP, SIDE_LEFT, SIDE_RIGHT
+  use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration, hertz_damped_force
+  use rd_creepage, only: creepage_t, creepages_from_velocities
+  use rd_creep_law, only: creep_law_t, creep_force_t, creep_patch_t => contact_patch_t
+  use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, validate_wheelset_contact_spec, &
+    build_contact_geometry, build_hertz_params, build_creep_law, flange_tip_coordinate
+  use rd_wheel_contact_result, only: patch_result_t, wheel_result_t, wheelset_result_t
+  implicit none
+  private
+  public :: wheelset_contact_t, wheelset_model_t, SIDE_LEFT, SIDE_RIGHT
+
+  !> Loads below this are "no vertical load" for Y/Q [N].
+  real(wp), parameter :: q_min = 1.0_wp
+
+  !> Parameters of one wheelset's contact (fixed after init).
+  type :: wheelset_model_t
+    integer :: body = 0
+    type(contact_geometry_t) :: geo
+    type(hertz_params_t) :: hertz
+    class(creep_law_t), allocatable :: law
+    real(wp) :: friction = 0.3_wp
+    real(wp) :: damping = 0
+    real(wp) :: v0 = 0.05_wp
+    real(wp) :: liftoff_limit = 0.02_wp
+    real(wp) :: flange_stiffness = 0       !< knife-edge lateral stop [N/m]
+    real(wp) :: s_flange_tip = -huge(1.0_wp) !< strip model: wheel coordinate of the flange tip [m]
+  end type wheelset_model_t
+
+  type, extends(force_provider_t) :: wheelset_contact_t
+    type(wheelset_model_t), allocatable :: models(:)
+    type(wheelset_result_t), allocatable :: results(:)   !< last evaluation, per wheelset
+  contains
+    procedure :: init => wheelset_contact_init
+    procedure :: add_forces => wheelset_contact_add_forces
+    procedure :: evaluate => wheelset_contact_evaluate
+    procedure :: wheelset_count
+  end type wheelset_contact_t
+
+contains
+
+  !> Build the pipeline of every wheelset from its spec. `nbodies` bounds the body indices.
+  subroutine wheelset_contact_init(self, specs, nbodies, error)
+    class(wheelset_contact_t), intent(inout) :: self
+    type(wheelset_contact_spec_t), intent(in) :: specs(:)
+    integer, intent(in) :: nbodies
+    type(error_t), allocatable, intent(out) :: error
+    integer :: i, j
+    character(len=16) :: num
+    if (allocated(self%models)) deallocate (self%models)
+    if (allocated(self%results)) deallocate (self%results)
+    allocate (self%models(size(specs)), self%results(size(specs)))
+    do i = 1, size(specs)
+      call build_one(specs(i), self%models(i), error)
+      if (allocated(error)) then
+        write (num, '(i0)') i
+        call error_context(error, 'wheelset contact ' // trim(num))
+        return
+      end if
+      do j = 1, i - 1
+        if (self%models(j)%body == specs(i)%body) then
+          write (num, '(i0)') i
+          call make_error(error, RD_ERR_INPUT, 'wheelset contact ' // trim(num) // &
+                          ': body already has a wheelset contact; expected one &wheelset per body')
+          return
+        end if
+      end do
+    end do
+  contains
+    subroutine build_one(spec, m, error)
+      type(wheelset_contact_spec_t), intent(in) :: spec
+      type(wheelset_model_t), intent(out) :: m
+      type(error_t), allocatable, intent(out) :: error
+      call validate_wheelset_contact_spec(spec, nbodies, error)
+      if (allocated(error)) return
+      call build_contact_geometry(spec, m%geo, error)
+      if (allocated(error)) return
+      call build_hertz_params(spec, m%hertz, error)
+      if (allocated(error)) return
+      call build_creep_law(spec, m%law, error)
+      if (allocated(error)) return
+      m%body = spec%body
+      m%friction = spec%friction
+      m%damping = spec%contact_damping
+      m%v0 = spec%creep_v0
+      m%liftoff_limit = spec%liftoff_limit
+      m%flange_stiffness = spec%knife_flange_stiffness
+      if (m%geo%model == CONTACT_MODEL_STRIP) m%s_flange_tip = flange_tip_coordinate(m%geo)
+    end subroutine build_one
+  end subroutine wheelset_contact_init
+
+  pure integer function wheelset_count(self)
+    class(wheelset_contact_t), intent(in) :: self
+    wheelset_count = 0
+    if (allocated(self%models)) wheelset_count = size(self%models)
+  end function wheelset_count
+
+  !> force_provider_t: add every wheelset's contact force and moment to its body's load.
+  subroutine wheelset_contact_add_forces(self, t, kin, forces, error)
+    class(wheelset_contact_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    type(body_kinematics_t), intent(in) :: kin(:)
+    type(body_load_t), intent(inout) :: forces(:)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: i, ib
+    real(wp) :: f(3), m(3)
+    if (.not. allocated(self%models)) return
+    do i = 1, size(self%models)
+      ib = self%models(i)%body
+      if (ib > size(kin)) then
+        call make_error(error, RD_ERR_INPUT, 'wheelset contact: body index beyond the multibody''s bodies')
+        return
+      end if
+      call self%evaluate(i, t, kin(ib), f, m, error)
+      if (allocated(error)) return
+      forces(ib)%force = forces(ib)%force + f
+      forces(ib)%moment = forces(ib)%moment + m
+    end do
+  end subroutine wheelset_contact_add_forces
+
+  !> The whole pipeline for wheelset i with kinematics `kin` at time t: resultant force
+  !> (at the CG) and moment (about the CG) on the wheelset, fixed-frame components.
+  !> Fills results(i). Errors: RD_ERR_PHYSICS on lift-off / derailment, RD_ERR_RUNTIME on a
+  !> non-finite result, both naming time, wheelset and side.
+  subroutine wheelset_contact_evaluate(self, i, t, kin, force, moment, error)
+    class(wheelset_contact_t), intent(inout) :: self
+    integer, intent(in) :: i
+    real(wp), intent(in) :: t
+    type(body_kinematics_t), intent(in) :: kin
+    real(wp), intent(out) :: force(3), moment(3)
+    type(error_t), allocatable, intent(out) :: error
+    type(wheel_contact_t) :: geo_res(2)
+    real(wp) :: fw(3), mw(3)
+    integer :: side
+    force = 0
+    moment = 0
+    if (.not. kin%is_wheelset) then
+      call make_error(error, RD_ERR_INPUT, 'wheelset contact ' // itoa(i) // &
+                      ': the body is not a wheelset (its spin must be a separate angle)')
+      return
+    end if
+    associate (m => self%models(i), res => self%results(i))
+      ! thesis eq. 4.78: the geometry needs only the intermediate frame (y, z, roll, yaw)
+      call wheelset_contact(m%geo, kin%q(2), kin%q(3), kin%q(5), kin%q(4), geo_res(1), geo_res(2), error)
+      if (allocated(error)) then
+        call error_context(error, 'wheelset contact ' // itoa(i) // ' at t = ' // rtoa(t) // ' s')
+        return
+      end if
+      do side = SIDE_LEFT, SIDE_RIGHT
+        call wheel_pipeline(m, side, kin, geo_res(side), res%wheel(side), fw, mw)
+        call check_wheel(m, geo_res(side), res%wheel(side), fw, mw, error)
+        if (allocated(error)) then
+          call error_context(error, 'wheelset contact ' // itoa(i) // ', ' // side_name(side) // &
+                             ' wheel, t = ' // rtoa(t) // ' s')
+          return
+        end if
+        force = force + fw
+        moment = moment + mw
+      end do
+      res%force = force
+      res%moment = moment
+      res%guiding_force_sum = res%wheel(1)%force_track(2) + res%wheel(2)%force_track(2)
+      res%derailment_quotient = max(res%wheel(1)%y_over_q, res%wheel(2)%y_over_q)
+    end associate
+  end subroutine wheelset_contact_evaluate
+
+  !> One wheel: every patch through Hertz, creepages and the creep law; the wheel's
+  !> resultant force fw (fixed frame) and moment mw about the wheelset CG.
+  subroutine wheel_pipeline(m, side, kin, wc, out, fw, mw)
+    type(wheelset_model_t), intent(in) :: m
+    integer, intent(in) :: side
+    type(body_kinematics_t), intent(in) :: kin
+    type(wheel_contact_t), intent(in) :: wc
+    type(wheel_result_t), intent(inout) :: out
+    real(wp), intent(out) :: fw(3), mw(3)
+    real(wp), parameter :: zero3(3) = 0
+    type(hertz_patch_t) :: hp
+    type(creepage_t) :: creep
+    type(creep_force_t) :: cf
+    type(creep_patch_t) :: cp
+    real(wp) :: a(3, 3), n(3), tx(3), xc(3), yc(3), frame(3, 3), r_c(3), v_c(3), f(3), nf, rate, ft(3)
+    integer :: k
+    a = kin%track%a
+    fw = 0
+    mw = 0
+    out%n_patches = wc%n_patches
+    out%max_penetration = wc%max_penetration
+    do k = 1, wc%n_patches
+      associate (p => wc%patch(k), o => out%patch(k))
+        ! contact frame (docs/conventions.md): n from the rail into the wheel, x_c = X_T
+        ! projected on the contact plane, y_c = n x x_c
+        n = matmul(a, p%normal)
+        tx = a(:, 1)
+        xc = tx - dot_product(tx, n) * n
+        xc = xc / norm2(xc)
+        yc = cross(n, xc)
+        frame(:, 1) = xc; frame(:, 2) = yc; frame(:, 3) = n
+        ! Contact point relative to the CG. The geometry returns the deepest point of the
+        ! rail surface, which lies `penetration` inside the undeformed wheel; with equal
+        ! elastic constants each body takes half the approach, so the deformed surfaces
+        ! meet half-way (the wheel's material point at the patch centre, as in CONTACT).
+        r_c = matmul(kin%rot_attach, p%point_wheel) - 0.5_wp * p%penetration * n
+        ! velocity of that wheel material point: rigid body incl. spin, the track frame's
+        ! motion and curvature are in kin%v and kin%omega (thesis eqs. 4.80-4.85)
+        v_c = kin%v + cross(kin%omega, r_c)
+        rate = -dot_product(v_c, n)             ! d(approach)/dt: the rail is at rest
+        cf = creep_force_t()
+        creep = creepage_t()
+        if (p%kind == PATCH_FLANGE_SPRING) then
+          ! knife-edge lateral stop: linear spring on the lateral overlap, no creep
+          hp = hertz_patch_t()
+          nf = hertz_damped_force(m%flange_stiffness * p%penetration, m%damping, rate)
+        else
+          call hertz_from_penetration(m%hertz, [p%curv_wheel_roll, p%curv_wheel_lat, &
+                                      p%curv_rail_roll, p%curv_rail_lat], p%penetration, hp)
+          nf = hertz_damped_force(hp%normal_force, m%damping, rate)
+          ! creepages (thesis 3.6.1; eqs. 4.80-4.86): wheel material point relative to the rail
+          call creepages_from_velocities(kin%v, v_c, zero3, kin%omega, zero3, frame, m%v0, creep)
+          cp%a = hp%a
+          cp%b = hp%b
+          cp%normal_force = nf
+          cp%shear_modulus = m%hertz%shear_modulus
+          cp%poisson = m%hertz%poisson
+          cp%friction = m%friction
+          cp%rolling_speed = creep%v_ref
+          call m%law%compute(cp, creep, cf)
+        end if
+        ! forces on the wheel (thesis 4.90 in contact components, 4.96 spin couple)
+        f = nf * n + cf%fx * xc + cf%fy * yc
+        fw = fw + f
+        mw = mw + cross(r_c, f) + cf%mz * n
+        o%kind = p%kind
+        o%penetration = p%penetration
+        o%normal_force = nf
+        o%xi = creep%xi; o%eta = creep%eta; o%spin = creep%phi; o%v_ref = creep%v_ref
+        o%fx = cf%fx; o%fy = cf%fy; o%mz = cf%mz
+        o%s_wheel = p%s_wheel
+        o%u_rail = p%u_rail
+        o%point_wheel = p%point_wheel
+        o%point_rail = p%point_rail + [kin%q(1), 0.0_wp, 0.0_wp]
+        o%contact_angle = p%contact_angle
+        o%rolling_radius = p%rolling_radius
+        o%a = hp%a; o%b = hp%b
+        o%hertz_warning = hp%warning
+      end associate
+    end do
+    do k = wc%n_patches + 1, size(out%patch)
+      out%patch(k) = patch_result_t()
+    end do
+    ft = matmul(transpose(a), fw)
+    out%force_track = ft
+    ! flange contact pushes the left wheel to -Y and the right wheel to +Y
+    out%y_over_q = 0
+    if (ft(3) > q_min) out%y_over_q = merge(-1.0_wp, 1.0_wp, side == SIDE_LEFT) * ft(2) / ft(3)
+  end subroutine wheel_pipeline
+
+  !> Run-time checks of one wheel (messages get time, wheelset and side from the caller).
+  subroutine check_wheel(m, wc, out, fw, mw, error)
+    type(wheelset_model_t), intent(in) :: m
+    type(wheel_contact_t), intent(in) :: wc
+    type(wheel_result_t), intent(in) :: out
+    real(wp), intent(in) :: fw(3), mw(3)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: k
+    if (.not. (all(finite(fw)) .and. all(finite(mw)) .and. finite(out%y_over_q))) then
+      call make_error(error, RD_ERR_RUNTIME, 'non-finite contact force (NaN or Inf)')
+      return
+    end if
+    if (m%geo%model == CONTACT_MODEL_STRIP) then
+      if (wc%max_penetration <= -0.5_wp * huge(1.0_wp)) then
+        call make_error(error, RD_ERR_PHYSICS, 'derailment: no rail under the wheel')
+        return
+      end if
+      do k = 1, wc%n_patches
+        if (wc%patch(k)%s_wheel < m%s_flange_tip) then
+          call make_error(error, RD_ERR_PHYSICS, 'derailment: contact point at wheel coordinate s = ' // &
+                          rtoa(wc%patch(k)%s_wheel) // ' m, beyond the flange tip (s = ' // &
+                          rtoa(m%s_flange_tip) // ' m)')
+          return
+        end if
+      end do
+    end if
+    if (wc%max_penetration < -m%liftoff_limit) then
+      call make_error(error, RD_ERR_PHYSICS, 'wheel lift-off: gap ' // rtoa(-wc%max_penetration) // &
+                      ' m exceeds the limit ' // rtoa(m%liftoff_limit) // ' m')
+    end if
+  end subroutine check_wheel
+
+  pure function side_name(side) result(s)
+    integer, intent(in) :: side
+    character(len=:), allocatable :: s
+    if (side == SIDE_LEFT) then
+      s = 'left'
+    else
+      s = 'right'
+    end if
+  end function side_name
+
+  pure function itoa(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=16) :: b
+    write (b, '(i0)') i
+    s = trim(b)
+  end function itoa
+
+  pure function rtoa(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=24) :: b
+    write (b, '(es12.5)') x
+    s = trim(adjustl(b))
+  end function rtoa
+
+  !> NaN/Inf test without ieee_arithmetic in the hot path (see rd_hertz: finite).
+  elemental logical function finite(x)
+    real(wp), intent(in) :: x
+    if (x /= x) then
+      finite = .false.
+    else
+      finite = abs(x) <= huge(x)
+    end if
+  end function finite
+
+end module rd_wheelset_contact
