@@ -8,13 +8,19 @@
 !> affine) and the minimum-norm least-squares solution of G p = -a0 is taken (LAPACK
 !> dgelsd), so redundant supports share the load evenly and unloaded directions get no
 !> preload. Call it at the initial state on straight level track (any constant speed).
+!>
+!> Alternatively `solve_static_positions` keeps the preloads and moves the bodies: Newton
+!> on the free accelerations with zero velocities and frozen time (the frames do not
+!> move), Jacobian by central differences, minimum-norm steps (dgelsd) so that neutral
+!> directions (an unrestrained spin or longitudinal position) stay where they are.
 module rd_static_preload
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME
   use rd_multibody, only: multibody_t
+  use rd_speed_law, only: speed_law_t, constant_speed
   implicit none
   private
-  public :: solve_static_preloads
+  public :: solve_static_preloads, solve_static_positions
 
   interface
     subroutine dgelsd(m, n, nrhs, a, lda, b, ldb, s, rcond, rank, work, lwork, iwork, info)
@@ -105,4 +111,77 @@ contains
       end do
     end subroutine apply
   end subroutine solve_static_preloads
+
+  !> Move the free coordinates of y (rates set to zero) to the static equilibrium at time t
+  !> with the speed taken as zero. `residual` is max |qddot| at the solution.
+  subroutine solve_static_positions(mb, t, y, residual, error, max_iterations)
+    type(multibody_t), intent(inout) :: mb
+    real(wp), intent(in) :: t
+    real(wp), intent(inout) :: y(:)
+    real(wp), intent(out) :: residual
+    type(error_t), allocatable, intent(out) :: error
+    integer, intent(in), optional :: max_iterations
+    type(speed_law_t) :: saved
+    real(wp), allocatable :: a(:), ap(:), am(:), jac(:, :), b(:), s(:), work(:), yp(:)
+    integer, allocatable :: iwork(:)
+    real(wp) :: h, wq(1), scale
+    integer :: n, it, j, rank, info, iwq(1), itmax
+    itmax = 50
+    if (present(max_iterations)) itmax = max_iterations
+    n = mb%nfree
+    if (n == 0) then
+      call make_error(error, RD_ERR_INPUT, 'static positions: no free coordinate'); return
+    end if
+    saved = mb%speed
+    ! frozen time: speed 0, frames kept where they are at t
+    mb%speed = constant_speed(0.0_wp)
+    mb%speed%s = saved%distance(t)
+    y(n + 1:2 * n) = 0
+    allocate (a(n), ap(n), am(n), jac(n, n), b(n), s(n), yp(size(y)))
+    call free_accelerations(y, a)
+    if (allocated(error)) goto 90
+    scale = max(1.0_wp, maxval(abs(a)))
+    do it = 1, itmax
+      residual = maxval(abs(a))
+      if (residual <= 1.0e-10_wp * scale) exit
+      do j = 1, n
+        h = 1.0e-7_wp * max(1.0_wp, abs(y(j)))
+        yp = y; yp(j) = y(j) + h
+        call free_accelerations(yp, ap)
+        if (allocated(error)) goto 90
+        yp(j) = y(j) - h
+        call free_accelerations(yp, am)
+        if (allocated(error)) goto 90
+        jac(:, j) = (ap - am) / (2 * h)
+      end do
+      b = -a
+      if (.not. allocated(work)) then
+        call dgelsd(n, n, 1, jac, n, b, n, s, -1.0_wp, rank, wq, -1, iwq, info)
+        allocate (work(int(wq(1))), iwork(max(1, iwq(1))))
+      end if
+      call dgelsd(n, n, 1, jac, n, b, n, s, 1.0e-12_wp, rank, work, size(work), iwork, info)
+      if (info /= 0) then
+        call make_error(error, RD_ERR_RUNTIME, 'static positions: least-squares solver (dgelsd) did not converge')
+        goto 90
+      end if
+      y(1:n) = y(1:n) + b
+      call free_accelerations(y, a)
+      if (allocated(error)) goto 90
+    end do
+    residual = maxval(abs(a))
+    if (residual > 1.0e-10_wp * scale) then
+      call make_error(error, RD_ERR_RUNTIME, 'static positions: Newton did not converge (no stable equilibrium?)')
+    end if
+90  mb%speed = saved
+    if (allocated(error)) call error_context(error, 'static positions')
+  contains
+    subroutine free_accelerations(yy, acc)
+      real(wp), intent(in) :: yy(:)
+      real(wp), intent(out) :: acc(:)
+      real(wp) :: ydot(size(yy))
+      logical :: rec
+      call mb%rhs(t, yy, ydot, error, rec)
+      acc = ydot(n + 1:2 * n)
+    end subroutine free_accelerations
+  end subroutine solve_static_positions
 end module rd_static_preload

@@ -5,7 +5,9 @@
 !> Checks: (1) the preloads against hand statics (each secondary spring carries a quarter
 !> of the car body, each primary spring a quarter of a bogie plus half the car body, each
 !> wheel an eighth of the vehicle); (2) the transient of the vehicle standing and running
-!> at 80 m/s on straight track stays at the noise level (max |qddot| and drift over 2 s).
+!> at 80 m/s on straight track stays at the noise level (max |qddot| and drift over 2 s);
+!> (3) without preloads, rd_static_preload's Newton solve of the static positions gives the
+!> sag of springs in series by hand statics (wheel, primary, secondary deflections).
 !>
 !> Positions the thesis leaves unstated (table 5.2: sigma_k, x1..x3, h_b, h_c) are chosen
 !> TGV-like: bogie wheelbase 3.0 m, bogie centres 18.7 m apart, r0 = 0.45 m (thesis
@@ -20,14 +22,14 @@ program test_tgv_static
   use rd_speed_law, only: constant_speed
   use rd_body_spec, only: body_spec_t
   use rd_multibody, only: multibody_t, ELEMENT_OUT
-  use rd_static_preload, only: solve_static_preloads
+  use rd_static_preload, only: solve_static_preloads, solve_static_positions
   use rd_linear_spring_damper, only: linear_spring_damper_t
   use rd_test_support, only: straight_track_t, rk4_integrate, check, failures
   implicit none
   real(wp), parameter :: g = 9.80665_wp, r0 = 0.45_wp, hb = 0.65_wp, hc = 1.90_wp
   real(wp), parameter :: m_ws = 1500, m_bf = 3020, m_cb = 43200
   real(wp), parameter :: offsets(4) = [0.0_wp, -3.0_wp, -18.7_wp, -21.7_wp]
-  real(wp) :: drift, qdd, res, out(ELEMENT_OUT), fz
+  real(wp) :: drift, qdd, res, out(ELEMENT_OUT)
   real(wp) :: v_run
   integer :: irun
   character(len=160) :: buf
@@ -39,23 +41,93 @@ program test_tgv_static
     call check('TGV 001 starts in static equilibrium', qdd < 1e-9_wp .and. drift < 1e-9_wp, trim(buf))
   end do
 
+  call sag_check()
+
   if (failures > 0) error stop 1
   print '(a)', 'test_tgv_static: all checks passed'
 
 contains
 
+  subroutine sag_check()
+    type(multibody_t), target :: mb
+    type(error_t), allocatable :: error
+    real(wp), allocatable :: y(:)
+    real(wp) :: d_wheel, d_pri, d_sec, expect(7), got(7), residual
+    integer :: i
+    call build(mb, 0.0_wp)
+    allocate (y(mb%state_size()))
+    call mb%initial_state(y, error)
+    call solve_static_positions(mb, 0.0_wp, y, residual, error)
+    if (allocated(error)) then
+      print '(a)', 'FAIL: ' // error%message; error stop 1
+    end if
+    d_wheel = (m_cb + 2 * m_bf + 4 * m_ws) * g / 8 / 1.4e9_wp
+    d_pri = (m_cb / 2 + m_bf) * g / 4 / 9.75e5_wp
+    d_sec = m_cb * g / 4 / 5.3e5_wp
+    expect = [(d_wheel, i = 1, 4), d_wheel + d_pri, d_wheel + d_pri, d_wheel + d_pri + d_sec]
+    do i = 1, 7
+      got(i) = mb%bodies(i)%q0(3) - y(mb%free_slot(i, 3))
+    end do
+    write (buf, '(a,3f10.6,a,3f10.6,a,es9.2)') 'sag ws/bogie/body ', got([1, 5, 7]), ' hand ', expect([1, 5, 7]), &
+      ' residual ', residual
+    call check('no preloads: static positions = springs in series', maxval(abs(got - expect)) < 1e-9_wp, trim(buf))
+  end subroutine sag_check
+
   subroutine run(v, residual, qdd_max, drift_max)
     real(wp), intent(in) :: v
     real(wp), intent(out) :: residual, qdd_max, drift_max
     type(multibody_t), target :: mb
+    type(error_t), allocatable :: error
+    real(wp), allocatable :: y(:), y0(:), ydot(:)
+    real(wp) :: fz
+    integer :: k, e
+    logical :: ok, rec
+    call build(mb, v)
+    call check('42 free coordinates', mb%state_size() == 84)
+    allocate (y(mb%state_size()), y0(mb%state_size()), ydot(mb%state_size()))
+    call mb%initial_state(y, error)
+    call solve_static_preloads(mb, 0.0_wp, y, residual, error)
+    if (allocated(error)) then
+      print '(a)', 'FAIL: ' // error%message; error stop 1
+    end if
+    ! hand statics (vertical element components = preload z, element axes vertical here)
+    call mb%rhs(0.0_wp, y, ydot, error, rec)
+    qdd_max = maxval(abs(ydot(43:84)))
+    do e = 1, mb%element_count()
+      call mb%element_output(e, out)
+      fz = out(6)
+      select case (mb%elements(e)%e%name)
+      case ('secondary')
+        ok = abs(fz - m_cb * g / 4) < 1e-6_wp * m_cb * g
+      case ('primary')
+        ok = abs(fz - (m_cb / 2 + m_bf) * g / 4) < 1e-6_wp * m_cb * g
+      case default
+        ok = abs(fz - (m_cb + 2 * m_bf + 4 * m_ws) * g / 8) < 1e-6_wp * m_cb * g
+      end select
+      if (.not. ok) then
+        write (buf, '(a,i0,a,f12.3)') 'element ', e, ' ' // mb%elements(e)%e%name // ' Fz = ', fz
+        call check('preload = hand statics', .false., trim(buf))
+      end if
+    end do
+    call check('preloads match the hand statics (secondary, primary, wheel)', failures == 0)
+    y0 = y
+    call rk4_integrate(mb, 0.0_wp, 2.0_wp, 2.0e-4_wp, y, ok)
+    drift_max = 0
+    do k = 1, 42
+      drift_max = max(drift_max, abs(y(k) - y0(k)))
+    end do
+  end subroutine run
+
+  !> The TGV 001 model (no preloads).
+  subroutine build(mb, v)
+    type(multibody_t), intent(inout) :: mb
+    real(wp), intent(in) :: v
     class(track_geometry_t), pointer :: track
     type(body_spec_t) :: b(7)
     type(linear_spring_damper_t) :: sp
     type(error_t), allocatable :: error
-    real(wp), allocatable :: y(:), y0(:), ydot(:)
     real(wp) :: xb(2), xws(4), side
-    integer :: i, j, k, ib, e
-    logical :: ok, rec
+    integer :: i, j, ib
     allocate (straight_track_t :: track)
     ! ---- bodies (table 5.1, 5.2)
     do i = 1, 4
@@ -128,40 +200,7 @@ contains
         call mb%add_element(sp, error)
       end do
     end do
-    call check('42 free coordinates', mb%state_size() == 84)
-    allocate (y(mb%state_size()), y0(mb%state_size()), ydot(mb%state_size()))
-    call mb%initial_state(y, error)
-    call solve_static_preloads(mb, 0.0_wp, y, residual, error)
-    if (allocated(error)) then
-      print '(a)', 'FAIL: ' // error%message; error stop 1
-    end if
-    ! hand statics (vertical element components = preload z, element axes vertical here)
-    call mb%rhs(0.0_wp, y, ydot, error, rec)
-    qdd_max = maxval(abs(ydot(43:84)))
-    do e = 1, mb%element_count()
-      call mb%element_output(e, out)
-      fz = out(6)
-      select case (mb%elements(e)%e%name)
-      case ('secondary')
-        ok = abs(fz - m_cb * g / 4) < 1e-6_wp * m_cb * g
-      case ('primary')
-        ok = abs(fz - (m_cb / 2 + m_bf) * g / 4) < 1e-6_wp * m_cb * g
-      case default
-        ok = abs(fz - (m_cb + 2 * m_bf + 4 * m_ws) * g / 8) < 1e-6_wp * m_cb * g
-      end select
-      if (.not. ok) then
-        write (buf, '(a,i0,a,f12.3)') 'element ', e, ' ' // mb%elements(e)%e%name // ' Fz = ', fz
-        call check('preload = hand statics', .false., trim(buf))
-      end if
-    end do
-    call check('preloads match the hand statics (secondary, primary, wheel)', failures == 0)
-    y0 = y
-    call rk4_integrate(mb, 0.0_wp, 2.0_wp, 2.0e-4_wp, y, ok)
-    drift_max = 0
-    do k = 1, 42
-      drift_max = max(drift_max, abs(y(k) - y0(k)))
-    end do
-  end subroutine run
+  end subroutine build
 
   pure function diag(d) result(m)
     real(wp), intent(in) :: d(3)
