@@ -1,0 +1,108 @@
+!> Creepages of knife-edge conical wheelsets (r0 = 0.46 m, e0 = 0.75 m) against the classic
+!> closed forms (thesis 3.6.1; Garg & Dukkipati 1984, ch. 6):
+!>
+!> - lateral velocity and yaw: eta = ydot/V - psi. This linear form neglects terms of order
+!>   gamma^2 (the cos(gamma) projection of the slip on y_c, and the longitudinal shift
+!>   -r0 tan(gamma) psi of the contact on a yawed cone, whose vertical rolling velocity
+!>   projects on the tilted y_c): checked on a low-conicity wheelset (lambda = 0.02) where
+!>   they are below 0.1%.
+!> - lateral shift y (lambda = 0.2): xi = -+Dr / r0 on the left/right wheel with
+!>   Dr = lambda (y + r0 phi), phi the roll of rigid contact: when the wheelset rolls by
+!>   phi the knife edge moves r0 phi across the wheel, and phi = Dr / e0, so
+!>   Dr = lambda y / (1 - lambda r0 / e0) (the thesis' eq. 5.2-5.4 geometry; the textbook
+!>   xi = -lambda y / r0 is its limit r0 lambda / e0 -> 0).
+!> - spin (lambda = 0.2): phi = (+-(V/r0) sin(gamma) + psidot cos(gamma)) / V_ref with
+!>   V_ref = V +- psidot e0 / 2 (rd_creepage's reference speed: the mean of forward and
+!>   circumferential speeds); the thesis' phi = -sin(gamma)/r has the opposite sign convention.
+!> The wheelset is placed at rigid contact (rd_rigid_contact) lowered by 1 um, so the
+!> half-approach correction of the contact radius (1e-6 relative) is negligible.
+program test_wheelset_creepage
+  use rd_kinds, only: wp
+  use rd_error, only: error_t
+  use rd_body_kinematics, only: body_kinematics_t
+  use rd_rigid_contact, only: rigid_contact
+  use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
+  use rd_wheelset_contact, only: wheelset_contact_t
+  use wheelset_test_support, only: circle_track_t, check, failures, pose_kinematics, rel_err
+  implicit none
+  real(wp), parameter :: r0 = 0.46_wp, v = 20.0_wp, lambda = 0.2_wp, lowering = 1.0e-6_wp
+  type(wheelset_contact_spec_t) :: spec, spec2
+  type(wheelset_contact_t) :: ws
+  type(error_t), allocatable :: error
+  type(circle_track_t) :: straight
+  type(body_kinematics_t) :: kin
+  real(wp) :: z, phi, f(3), m(3), y, psi, ydot, psidot, g, eta_ref, xi_ref, dr, vref, sgn
+  integer :: side
+
+  spec%body = 1
+  spec%model = 'knife_edge'
+  spec%knife_conicity = lambda
+  spec%knife_e0 = 0.75_wp
+  spec%nominal_radius = r0
+  spec%creep_law = 'linear'
+  spec2 = spec
+  spec2%body = 2
+  spec2%knife_conicity = 0.02_wp
+  call ws%init([spec, spec2], 2, error)
+  if (allocated(error)) error stop error%message
+  g = atan(lambda)
+
+  ! 1. lateral velocity and yaw, centred, low conicity
+  y = 0; psi = 2.0e-3_wp; ydot = 0.01_wp
+  call place(2, y, psi, [0.0_wp, ydot, 0.0_wp, 0.0_wp, 0.0_wp, v / r0])
+  eta_ref = ydot / v - psi
+  do side = 1, 2
+    associate (p => ws%results(2)%wheel(side)%patch(1))
+      write (*, '(a,i2,a,2es14.6)') 'side', side, ': eta, ydot/V - psi ', p%eta, eta_ref
+      call check(rel_err(p%eta, eta_ref) < 1.0e-3_wp, 'eta = ydot/V - psi within 0.1% (lambda 0.02)')
+    end associate
+  end do
+
+  ! 2. lateral shift: rolling radius difference
+  y = 3.0e-3_wp; psi = 0
+  call place(1, y, psi, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, v / r0])
+  write (*, '(a,es12.4,a,es12.4)') 'roll of rigid contact ', phi, ', lambda y / (e0 - lambda r0) ', lambda * y / (0.75_wp - lambda * r0)
+  call check(rel_err(phi, lambda * y / (0.75_wp - lambda * r0)) < 1.0e-2_wp, 'roll = lambda y / (e0 - lambda r0) within 1%')
+  dr = lambda * (y + r0 * phi)
+  do side = 1, 2
+    associate (p => ws%results(1)%wheel(side)%patch(1))
+      sgn = merge(1.0_wp, -1.0_wp, side == 1)
+      xi_ref = -sgn * dr / r0
+      write (*, '(a,i2,a,3es14.6)') 'side', side, ': xi, -+Dr/r0, rolling radius ', p%xi, xi_ref, p%rolling_radius
+      call check(rel_err(p%xi, xi_ref) < 1.0e-2_wp, 'xi = -+lambda (y + r0 phi) / r0 within 1%')
+      call check(abs(p%rolling_radius - (r0 + sgn * dr)) < 1.0e-2_wp * dr, 'rolling radius r0 +- lambda (y + r0 phi) within 1%')
+    end associate
+  end do
+
+  ! 3. spin, centred, without and with a yaw rate
+  y = 0; psi = 0
+  do side = 0, 1
+    psidot = 0.1_wp * side
+    call place(1, y, psi, [0.0_wp, 0.0_wp, 0.0_wp, psidot, 0.0_wp, v / r0])
+    associate (pl => ws%results(1)%wheel(1)%patch(1), pr => ws%results(1)%wheel(2)%patch(1))
+      write (*, '(a,f5.2,a,4es14.6)') 'yaw rate ', psidot, ': phi left, right; closed forms ', pl%spin, pr%spin, &
+        (-v / r0 * sin(g) + psidot * cos(g)) / (v + 0.375_wp * psidot), (v / r0 * sin(g) + psidot * cos(g)) / (v - 0.375_wp * psidot)
+      vref = v + 0.375_wp * psidot
+      call check(rel_err(pl%spin, (-v / r0 * sin(g) + psidot * cos(g)) / vref) < 1.0e-4_wp, &
+                 'phi left = (-(V/r0) sin(gamma) + psidot cos(gamma)) / V_ref')
+      vref = v - 0.375_wp * psidot
+      call check(rel_err(pr%spin, (v / r0 * sin(g) + psidot * cos(g)) / vref) < 1.0e-4_wp, &
+                 'phi right = ((V/r0) sin(gamma) + psidot cos(gamma)) / V_ref')
+    end associate
+  end do
+  if (failures > 0) error stop 1
+
+contains
+
+  !> rigid contact for (y, psi), lowered by `lowering`, and the pipeline evaluated there
+  subroutine place(i, y, psi, qd)
+    integer, intent(in) :: i
+    real(wp), intent(in) :: y, psi, qd(6)
+    call rigid_contact(ws%models(i)%geo, y, psi, z, phi, error)
+    if (allocated(error)) error stop error%message
+    kin = pose_kinematics(straight, 0.0_wp, v, [0.0_wp, y, z - lowering, psi, phi, 0.0_wp], qd)
+    call ws%evaluate(i, 0.0_wp, kin, f, m, error)
+    if (allocated(error)) error stop error%message
+  end subroutine place
+
+end program test_wheelset_creepage
