@@ -28,8 +28,8 @@ module rd_contact_surfaces
 
   !> Pre-processing parameters (see docs/theory_contact_geometry.md).
   type :: surface_options_t
-    real(wp) :: wheel_spacing = 1.0e-4_wp     !< arc-length spacing of wheel points [m]
-    real(wp) :: rail_spacing = 1.0e-4_wp      !< arc-length spacing of rail lines (strips) [m]
+    real(wp) :: wheel_spacing = 2.0e-4_wp     !< arc-length spacing of wheel points [m]
+    real(wp) :: rail_spacing = 2.0e-4_wp      !< arc-length spacing of rail lines (strips) [m]
     real(wp) :: curvature_sigma = 1.0e-3_wp   !< Gaussian curvature filter width [m]
   end type surface_options_t
 

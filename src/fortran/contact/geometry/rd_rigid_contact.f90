@@ -24,7 +24,7 @@ contains
     type(error_t), allocatable, intent(out) :: error
     type(wheel_contact_t), intent(out), optional :: left, right
     real(wp), intent(in), optional :: lowering
-    real(wp), parameter :: tol = 1.0e-12_wp, hz = 1.0e-7_wp, hphi = 1.0e-7_wp, resolution = 3.0e-7_wp
+    real(wp), parameter :: tol = 1.0e-12_wp, hz = 1.0e-7_wp, hphi = 1.0e-7_wp, resolution = 1.0e-6_wp
     real(wp) :: g(2), gz(2), gp(2), jac(2, 2), det, dz, dphi, scale
     integer :: it
     character(len=160) :: msg
@@ -50,7 +50,7 @@ contains
     if (.not. (maxval(abs(g)) < 1.0e-10_wp)) call nested_solve()
     g = residual(z, phi)
     ! accept within the geometric resolution of the polygonal profiles: a chord of length
-    ! h on an arc of radius R deviates by h^2/(8R) (0.1 mm on the R12 flange tip: 0.1 um),
+    ! h on an arc of radius R deviates by h^2/(8R) (0.2 mm on the R12 flange tip: 0.4 um),
     ! and the maximum penetration may step by that much where the deepest point switches
     if (.not. (maxval(abs(g)) < resolution)) then
       write (msg, '(a,es10.3,a,es10.3,a,es10.3)') 'rigid_contact: no two-wheel contact found for y = ', y, &

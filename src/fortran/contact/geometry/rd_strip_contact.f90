@@ -26,18 +26,27 @@ contains
   !> Contact of the left wheel with the left rail for the wheelset pose relative to the
   !> track frame: lateral y, vertical z of the wheelset centre, roll phi, yaw psi
   !> (B = R_z(psi) R_x(phi), docs/conventions.md).
-  pure subroutine strip_wheel_contact(wheel, rail, y, z, phi, psi, res)
+  pure subroutine strip_wheel_contact(wheel, rail, y, z, phi, psi, res, exhaustive)
     type(wheel_surface_t), intent(in) :: wheel
     type(rail_surface_t), intent(in) :: rail
     real(wp), intent(in) :: y, z, phi, psi
     type(wheel_contact_t), intent(out) :: res
+    !> search every cone a line can reach instead of hill climbing (reference for tests)
+    logical, intent(in), optional :: exhaustive
+    logical :: full_search
+    integer :: jprev, step
+    real(wp) :: pyb
     real(wp) :: delta(rail%n), tline(rail%n), pw(3, rail%n)
     integer :: jseg(rail%n)
+    logical :: pos(rail%n)
     real(wp) :: bt(3, 3), d(3), a, cp, sp, cs, ss, rel(3), p0(3), proj, t0, rho, py0, pz0, px0
     real(wp) :: half, best, dep, tau, taub, ext, ylo, yhi, k
     integer :: i, ilo, ihi, j, jlo, jhi, jb, i1, i2, kmax, np, iw
     logical :: found
 
+    full_search = .false.
+    if (present(exhaustive)) full_search = exhaustive
+    jprev = 1
     cp = cos(phi); sp = sin(phi); cs = cos(psi); ss = sin(psi)
     ! B^T for B = R_z(psi) R_x(phi): rows are B's columns
     bt(1, :) = [cs, ss, 0.0_wp]
@@ -66,19 +75,48 @@ contains
       py0 = p0(2) + t0 * d(2)
       rho = hypot(px0, pz0)
       if (pz0 >= 0) cycle                 ! above the axle: not the running surface
-      best = -huge(1.0_wp); jb = locate(wheel%y, py0); taub = 0
+      jprev = hunt(wheel%y, py0, jprev)       ! lines come in lateral order: O(1) search
+      best = -huge(1.0_wp); jb = jprev; taub = 0
       if (rho < wheel%r_max .and. py0 > wheel%y(1) - 0.2_wp .and. py0 < wheel%y(wheel%n) + 0.2_wp) then
-        ! only cones the line can reach: rho(t) < r_max bounds |t - t0|, hence p_y
-        half = abs(d(2)) * sqrt(wheel%r_max**2 - rho**2) / a
-        jlo = locate(wheel%y, py0 - half)
-        jhi = locate(wheel%y, py0 + half)
-        do j = jlo, jhi
+        if (full_search) then
+          ! every cone the line can reach: rho(t) < r_max bounds |t - t0|, hence p_y
+          half = abs(d(2)) * sqrt(wheel%r_max**2 - rho**2) / a
+          jlo = locate(wheel%y, py0 - half)
+          jhi = locate(wheel%y, py0 + half)
+          do j = jlo, jhi
+            call line_cone_max_depth(t0, rho, py0, a, d(2), wheel%y(j), wheel%r(j), &
+                                     wheel%y(j + 1), wheel%r(j + 1), found, dep, tau)
+            if (found .and. dep > best) then
+              best = dep; jb = j; taub = tau
+            end if
+          end do
+        else
+          ! Hill climb from the cone under the closest approach: the depth is concave on
+          ! each cone, so when its maximum sits on a cone's edge the maximum along the line
+          ! continues on the neighbouring cone (thesis 4.7.1.5: alpha < 0 -> segment j-1,
+          ! alpha > 1 -> j+1). The stationary point lies rho k dy^2 / a^2 from p_y(t0),
+          ! a few segments at most on a yawed flange.
+          j = jprev
           call line_cone_max_depth(t0, rho, py0, a, d(2), wheel%y(j), wheel%r(j), &
                                    wheel%y(j + 1), wheel%r(j + 1), found, dep, tau)
-          if (found .and. dep > best) then
+          if (found) then
             best = dep; jb = j; taub = tau
+            do step = 1, wheel%n
+              pyb = py0 + d(2) * taub
+              if (pyb >= wheel%y(jb + 1) .and. jb < wheel%n - 1) then
+                j = jb + 1
+              else if (pyb <= wheel%y(jb) .and. jb > 1) then
+                j = jb - 1
+              else
+                exit
+              end if
+              call line_cone_max_depth(t0, rho, py0, a, d(2), wheel%y(j), wheel%r(j), &
+                                       wheel%y(j + 1), wheel%r(j + 1), found, dep, tau)
+              if (.not. (found .and. dep > best)) exit
+              best = dep; jb = j; taub = tau
+            end do
           end if
-        end do
+        end if
       end if
       if (best == -huge(1.0_wp)) then
         best = wheel_radius_at(wheel, py0) - rho    ! far away: radial gap is enough
@@ -96,7 +134,10 @@ contains
     res%max_penetration = -huge(1.0_wp)
     if (ihi < ilo) return
     ! max over the refined local maxima (not the refinement of the global discrete max):
-    ! stays continuous when the deepest point switches between two separate bumps
+    ! stays continuous when the deepest point switches between two separate bumps.
+    ! A local maximum whose refined peak is positive opens a patch even if no strip is
+    ! positive yet, so that patches appear with zero penetration.
+    pos(ilo:ihi) = delta(ilo:ihi) > 0
     do i = ilo, ihi
       if (i > ilo) then
         if (delta(i) < delta(i - 1)) cycle
@@ -104,20 +145,22 @@ contains
       if (i < ihi) then
         if (delta(i) <= delta(i + 1)) cycle
       end if
-      res%max_penetration = max(res%max_penetration, refined_peak(delta, i, ilo, ihi))
+      dep = refined_peak(delta, i, ilo, ihi)
+      res%max_penetration = max(res%max_penetration, dep)
+      if (dep > 0) pos(i) = .true.
     end do
 
     ! patches: runs of penetrating strips
     i = ilo
     np = 0
     do while (i <= ihi)
-      if (delta(i) <= 0) then
+      if (.not. pos(i)) then
         i = i + 1
         cycle
       end if
       i1 = i
       do while (i < ihi)
-        if (delta(i + 1) <= 0) exit
+        if (.not. pos(i + 1)) exit
         i = i + 1
       end do
       i2 = i
@@ -196,14 +239,14 @@ contains
       end if
       ! extent: zero crossings of the signed penetration at both ends of the run
       p%u_rail_min = rail%u(i1)
-      if (i1 > ilo) then
+      if (i1 > ilo .and. delta(i1) > 0) then
         if (delta(i1 - 1) > -huge(1.0_wp)) then
           w = delta(i1) / (delta(i1) - delta(i1 - 1))
           p%u_rail_min = rail%u(i1) + w * (rail%u(i1 - 1) - rail%u(i1))
         end if
       end if
       p%u_rail_max = rail%u(i2)
-      if (i2 < ihi) then
+      if (i2 < ihi .and. delta(i2) > 0) then
         if (delta(i2 + 1) > -huge(1.0_wp)) then
           w = delta(i2) / (delta(i2) - delta(i2 + 1))
           p%u_rail_max = rail%u(i2) + w * (rail%u(i2 + 1) - rail%u(i2))
@@ -246,6 +289,27 @@ contains
     end subroutine strip_ends
 
   end subroutine strip_wheel_contact
+
+  !> Index j with y(j) <= x < y(j+1) (clamped to [1, n-1]), walking from a guess.
+  pure integer function hunt(y, x, jguess) result(j)
+    real(wp), intent(in) :: y(:), x
+    integer, intent(in) :: jguess
+    integer :: n
+    n = size(y)
+    j = min(max(jguess, 1), n - 1)
+    if (abs(x - y(j)) > 64 * (y(min(j + 1, n)) - y(j))) then
+      j = locate(y, x)                      ! far: bisection
+      return
+    end if
+    do while (j > 1)
+      if (x >= y(j)) exit
+      j = j - 1
+    end do
+    do while (j < n - 1)
+      if (x < y(j + 1)) exit
+      j = j + 1
+    end do
+  end function hunt
 
   pure real(wp) function lerp(u, v, w)
     real(wp), intent(in) :: u, v, w
