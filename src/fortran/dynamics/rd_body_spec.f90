@@ -3,6 +3,7 @@
 !> Coordinates q = (x, y, z, psi, phi, theta) relative to the body's track frame
 !> (docs/conventions.md, thesis eq. 4.6 and 4.29); orientation B = Rz(psi) Rx(phi) Ry(theta).
 module rd_body_spec
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   implicit none
@@ -44,7 +45,7 @@ contains
       call make_error(error, RD_ERR_INPUT, who // ': mass must be > 0 kg'); return
     end if
     i = spec%inertia
-    if (any(i /= i) .or. maxval(abs(i - transpose(i))) > 1.0e-9_wp * maxval(abs(i))) then
+    if (any(.not. ieee_is_finite(i)) .or. maxval(abs(i - transpose(i))) > 1.0e-9_wp * maxval(abs(i))) then
       call make_error(error, RD_ERR_INPUT, who // ': inertia must be a finite symmetric 3x3 tensor'); return
     end if
     ! positive definite (Sylvester): leading principal minors > 0
@@ -58,7 +59,7 @@ contains
     if (spec%frame < 1 .or. spec%frame > nframes) then
       call make_error(error, RD_ERR_INPUT, who // ': track frame index out of range 1..number of frames'); return
     end if
-    if (any(spec%q0 /= spec%q0) .or. any(spec%qdot0 /= spec%qdot0)) then
+    if (any(.not. ieee_is_finite(spec%q0)) .or. any(.not. ieee_is_finite(spec%qdot0))) then
       call make_error(error, RD_ERR_INPUT, who // ': NaN in initial coordinates or rates'); return
     end if
     if (abs(spec%q0(DOF_ROLL)) >= 1.5_wp) then

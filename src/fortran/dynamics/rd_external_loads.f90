@@ -2,6 +2,7 @@
 !> reference frame and ... in the track frame"), and the per-body override the C API sets
 !> at run time. Both are force providers.
 module rd_external_loads
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   use rd_body_kinematics, only: body_kinematics_t
@@ -55,7 +56,7 @@ contains
     if (load%frame < LOAD_FRAME_FIXED .or. load%frame > LOAD_FRAME_BODY) then
       call make_error(error, RD_ERR_INPUT, 'external load: frame must be fixed, track or body'); return
     end if
-    if (any(load%force /= load%force) .or. any(load%moment /= load%moment) .or. .not. (load%t_off >= load%t_on)) then
+    if (any(.not. ieee_is_finite(load%force)) .or. any(.not. ieee_is_finite(load%moment)) .or. .not. (load%t_off >= load%t_on)) then
       call make_error(error, RD_ERR_INPUT, 'external load: expected finite force/moment and t_off >= t_on'); return
     end if
     if (.not. allocated(self%loads)) allocate (self%loads(0))
@@ -111,7 +112,7 @@ contains
     if (body < 1 .or. body > size(self%force, 2)) then
       call make_error(error, RD_ERR_INPUT, 'override load: body index out of range 1..number of bodies'); return
     end if
-    if (any(force /= force) .or. any(moment /= moment)) then
+    if (any(.not. ieee_is_finite(force)) .or. any(.not. ieee_is_finite(moment))) then
       call make_error(error, RD_ERR_INPUT, 'override load: NaN in force or moment'); return
     end if
     self%force(:, body) = force

@@ -7,6 +7,7 @@
 !> integration error. `override` replaces the law from a given time on (the C API sets the
 !> speed as an input), optionally through a linear ramp.
 module rd_speed_law
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   implicit none
@@ -51,8 +52,8 @@ contains
         return
       end if
     end do
-    if (any(v /= v) .or. any(t /= t)) then
-      call make_error(error, RD_ERR_INPUT, 'speed table: NaN in times or speeds')
+    if (any(.not. ieee_is_finite(v)) .or. any(.not. ieee_is_finite(t))) then
+      call make_error(error, RD_ERR_INPUT, 'speed table: times and speeds must be finite')
       return
     end if
     law%t = t
@@ -164,7 +165,7 @@ contains
     integer :: n
     ramp = 0
     if (present(ramp_time)) ramp = ramp_time
-    if (.not. (ramp >= 0) .or. v_new /= v_new .or. t0 /= t0) then
+    if (.not. (ramp >= 0) .or. (.not. ieee_is_finite(v_new)) .or. (.not. ieee_is_finite(t0))) then
       call make_error(error, RD_ERR_INPUT, 'speed override: expected a finite speed and ramp_time >= 0')
       return
     end if

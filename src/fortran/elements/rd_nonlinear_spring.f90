@@ -10,6 +10,7 @@
 !> it with the last segment's slope. Body 1's reaction acts at point 2 (see
 !> rd_linear_spring_damper: exact conservation with axes turning with body 1).
 module rd_nonlinear_spring
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   use rd_body_kinematics, only: body_kinematics_t
@@ -58,8 +59,8 @@ contains
         call make_error(error, RD_ERR_INPUT, 'force table: penetrations must be strictly increasing'); return
       end if
     end do
-    if (any(f /= f)) then
-      call make_error(error, RD_ERR_INPUT, 'force table: NaN in forces'); return
+    if (any(.not. ieee_is_finite(f))) then
+      call make_error(error, RD_ERR_INPUT, 'force table: forces must be finite'); return
     end if
     table%e = e
     table%f = f

@@ -53,6 +53,7 @@ program test_frozen_and_spin
   call check('frozen spin: theta = s/r0 + beta0', abs(t - (s_exact / r0 + 0.3_wp)) < 1e-12_wp * s_exact / r0, trim(buf))
 
   call loads_check()
+  call errors_check()
 
   if (failures > 0) error stop 1
   print '(a)', 'test_frozen_and_spin: all checks passed'
@@ -178,4 +179,28 @@ contains
     call mb%set_override_load(2, [0.0_wp, 0.0_wp, -50.0_wp], [0.0_wp, 0.0_wp, 0.0_wp], error)
     call check('override load: bad body index rejected', allocated(error))
   end subroutine loads_check
+  !> Bad input gives one clear error; a singular configuration is reported, not a NaN.
+  subroutine errors_check()
+    type(multibody_t), target :: mb
+    type(body_spec_t) :: body(1)
+    real(wp), allocatable :: y(:), ydot(:)
+    logical :: rec
+    body(1)%name = 'bad'
+    body(1)%inertia = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
+    call mb%init(body, [0.0_wp], track, constant_speed(1.0_wp), error)
+    call check('zero mass rejected', allocated(error))
+    if (allocated(error)) print '(a)', '  message: ' // error%message
+    body(1)%mass = 1
+    body(1)%frame = 2
+    call mb%init(body, [0.0_wp], track, constant_speed(1.0_wp), error)
+    call check('frame index out of range rejected', allocated(error))
+    body(1)%frame = 1
+    call mb%init(body, [0.0_wp], track, constant_speed(1.0_wp), error)
+    allocate (y(mb%state_size()), ydot(mb%state_size()))
+    call mb%initial_state(y, error)
+    y(5) = 2 * atan(1.0_wp)          ! 90 deg roll
+    call mb%rhs(0.0_wp, y, ydot, error, rec)
+    call check('90 deg roll reported as an error', allocated(error))
+    if (allocated(error)) print '(a)', '  message: ' // error%message
+  end subroutine errors_check
 end program test_frozen_and_spin
