@@ -6,6 +6,7 @@
 !>     result of oracles.md. The test also solves the exact steady state of the body on
 !>     its horizontal circle (radius R minus its horizontal offset) by fixed-point
 !>     iteration, written here from the geometry alone, and requires agreement to 1e-9.
+!>     Integrated with rd_integrator's CVODE BDF (the stiff method runs use).
 !>  2. Mirror: a free 6-DOF body on four springs through a left and a right canted curve
 !>     from mirror-symmetric initial conditions: y, psi, phi change sign, x, z, theta not.
 program test_steady_curving
@@ -17,6 +18,7 @@ program test_steady_curving
   use rd_multibody, only: multibody_t
   use rd_linear_spring_damper, only: linear_spring_damper_t
   use rd_rotation, only: rot_x
+  use rd_integrator, only: integrator_t, integrator_settings_t
   use rd_test_support, only: canted_circle_t, rk4_integrate, check, failures
   implicit none
   real(wp), parameter :: m = 2000, g = 9.80665_wp, v = 40, r = 600, cant = -0.1_wp
@@ -29,7 +31,8 @@ program test_steady_curving
   call settle(-1.0_wp / r, -cant, y_right)
   w = exact_steady(+1.0_wp / r, cant)
   w_formula = -m * (v**2 / r * cos(cant) + g * sin(cant)) / ky
-  write (buf, '(a,es14.7,a,es14.7,a,es14.7)') 'y = ', y_left(2), ' exact ', w(2), ' textbook ', w_formula
+  write (buf, '(a,es14.7,a,es14.7,a,es9.2,a,es14.7)') 'y = ', y_left(2), ' exact ', w(2), ' diff ', y_left(2) - w(2), &
+    ' textbook ', w_formula
   call check('steady curving: y against the exact steady state', abs(y_left(2) - w(2)) < 1e-9_wp, trim(buf))
   call check('steady curving: z against the exact steady state', abs(y_left(3) - w(3)) < 1e-9_wp)
   ! the textbook formula neglects the O(y/R) change of radius and the vertical spring's tilt
@@ -62,6 +65,8 @@ contains
     type(error_t), allocatable :: error
     real(wp), allocatable :: y(:)
     logical :: ok
+    type(integrator_t) :: integ
+    type(integrator_settings_t) :: settings
     allocate (canted_circle_t :: track)
     select type (track)
     type is (canted_circle_t)
@@ -79,7 +84,13 @@ contains
     allocate (y(mb%state_size()))
     call mb%initial_state(y, error)
     call check('frozen x and angles leave the state', size(y) == 4)
-    call rk4_integrate(mb, 0.0_wp, 8.0_wp, 1.0e-3_wp, y, ok)
+    settings%method = 'bdf'; settings%rtol = 1.0e-10_wp; settings%atol = 1.0e-13_wp
+    settings%max_num_steps = 100000
+    call integ%init(mb, 0.0_wp, y, settings, error)
+    if (.not. allocated(error)) call integ%advance(8.0_wp, y, error)
+    ok = .not. allocated(error)
+    if (.not. ok) print '(a)', error%message
+    call integ%destroy()
     q = 0
     q(2:3) = y(1:2)
     call check('settled (rates ~ 0)', ok .and. maxval(abs(y(3:4))) < 1e-10_wp)
