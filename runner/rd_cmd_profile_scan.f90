@@ -12,6 +12,7 @@
 !> computation fails, 2 for bad usage (one line on stderr).
 module rd_cmd_profile_scan
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_IO
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL
@@ -75,7 +76,7 @@ contains
         end if
         read (args(i + 1), *, iostat=k) value
         ok = k == 0
-        if (ok) ok = abs(value) <= huge(1.0_wp) .and. value == value
+        if (ok) ok = ieee_is_finite(value)
         if (.not. ok) then
           call bad(trim(args(i)) // " expects a number (SI units), got '" // trim(args(i + 1)) // "'"); return
         end if

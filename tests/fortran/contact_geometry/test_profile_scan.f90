@@ -80,6 +80,8 @@ program test_profile_scan
   call check(status == 2, 'missing value: usage error')
   call run_profile_scan_command([character(len=20) :: '--gauge', 'wide'], status)
   call check(status == 2, 'non-numeric value: usage error')
+  call run_profile_scan_command([character(len=20) :: '--gauge', 'nan'], status)
+  call check(status == 2, 'NaN value: usage error')
   call run_profile_scan_command([character(len=20) :: '--wheel', '/nonexistent.prw'], status)
   call check(status == 1, 'missing profile file: failure status')
   if (failures > 0) error stop 1

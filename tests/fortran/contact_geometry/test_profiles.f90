@@ -113,6 +113,9 @@ program test_profiles
   call write_text('tiny.txt', ['0 0      ', '0.002 1  ', '0.004 2  ', '0.006 3  ', '0.008 4  ', '0.010 5  '])
   call read_profile_file(tmp // 'tiny.txt', PROFILE_WHEEL, p2, error)
   call check(has(error, 'implausible'), 'wheel of 10 mm extent: implausible')
+  call write_text('nan.txt', [character(len=30) :: '0 0', '0.01 nan', '0.02 0', '0.03 0', '0.04 0', '0.05 0'])
+  call read_profile_file(tmp // 'nan.txt', PROFILE_RAIL, p2, error)
+  call check(has(error, 'nan.txt:2:') .or. has(error, 'non-finite'), 'NaN coordinate reported')
   call write_text('csv_mm.csv', [character(len=30) :: '# S1002 part; units: mm', '-60,20', '-30,5', '0,0', &
                                  '30,-1      ', '60, -3     '])
   call read_profile_file(tmp // 'csv_mm.csv', PROFILE_WHEEL, p2, error)
@@ -136,7 +139,7 @@ program test_profiles
   if (.not. allocated(error)) call check(maxval(abs(p2%y - prof%y)) + maxval(abs(p2%z - prof%z)) < 1e-15_wp, &
     'table round trip exact')
   call cleanup(['bad_points.txt', 'few_points.txt', 'nonmono.txt   ', 'mm_units.txt  ', 'tiny.txt      ', &
-                'csv_mm.csv    ', 'roundtrip.prr ', 'roundtrip.txt '])
+                'csv_mm.csv    ', 'nan.txt       ', 'roundtrip.prr ', 'roundtrip.txt '])
   if (failures > 0) error stop 1
 
 contains

@@ -9,6 +9,7 @@
 !> In both cases the material lies on the side of smaller `z`, so one curvature formula
 !> serves both: positive = convex (thesis 5.2.1, [28]), negative = concave (wheel throat).
 module rd_profile
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   implicit none
@@ -60,8 +61,7 @@ contains
       call make_error(error, RD_ERR_INPUT, what // trim(msg))
       return
     end if
-    if (any(profile%y /= profile%y) .or. any(profile%z /= profile%z) .or. &
-        any(abs(profile%y) > huge(1.0_wp)) .or. any(abs(profile%z) > huge(1.0_wp))) then
+    if (.not. (all(ieee_is_finite(profile%y)) .and. all(ieee_is_finite(profile%z)))) then
       call make_error(error, RD_ERR_INPUT, what // ': non-finite coordinates')
       return
     end if
