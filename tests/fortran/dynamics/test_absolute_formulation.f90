@@ -10,7 +10,9 @@
 !>     (dV/dt terms);
 !>  3. rd_track: straight -> clothoid with a LINEAR cant ramp and a gradient change ->
 !>     canted curve, the body 8 m behind its frame: the frame's angular velocity jumps at
-!>     the clothoid ends, which the generalized velocities of the state absorb (theory.md 5).
+!>     the clothoid ends, which the generalized velocities of the state absorb (theory.md 5);
+!>  4. a wheelset body (spin integrated as the deviation beta, spinning at ~90 rad/s) on
+!>     the same track: gyroscopic coupling with the frame's rotation.
 !> The independent absolute-coordinate model of the test below.
 module absolute_body_model
   use rd_kinds, only: wp
@@ -31,6 +33,10 @@ module absolute_body_model
     type(speed_law_t) :: speed
     real(wp) :: sigma0 = 0
     real(wp) :: x_offset = 0     !< ground points' x in the track frame, added to pts
+    real(wp) :: z_ground = 0     !< ground points' z in the track frame, added to pts
+    real(wp) :: mass = m
+    real(wp) :: inertia(3, 3) = jj
+    real(wp) :: points(3, 2) = pts   !< attachment points on the body (and the frame)
   contains
     procedure :: rhs => abs_rhs
     procedure :: state_size => abs_size
@@ -60,23 +66,23 @@ contains
     wa = matmul(a, v * tp%omega)               ! frame angular velocity, fixed components
     r = reshape(y(7:15), [3, 3])
     wb = y(16:18)
-    f = [0.0_wp, 0.0_wp, -m * g]
+    f = [0.0_wp, 0.0_wp, -self%mass * g]
     mom = 0
     do i = 1, 2
-      p1 = tp%r + matmul(a, pts(:, i) + [self%x_offset, 0.0_wp, 0.0_wp])   ! on the track frame
-      p2 = y(1:3) + matmul(r, pts(:, i))                   ! on the body
+      p1 = tp%r + matmul(a, self%points(:, i) + [self%x_offset, 0.0_wp, self%z_ground])   ! on the track frame
+      p2 = y(1:3) + matmul(r, self%points(:, i))                   ! on the body
       v1 = v * tp%dr + cross(wa, p1 - tp%r)
       v2 = y(4:6) + cross(matmul(r, wb), p2 - y(1:3))
       d = matmul(transpose(a), p2 - p1)                    ! track axes
       dd = matmul(transpose(a), v2 - v1 - cross(wa, p2 - p1))
-      fl = [0.0_wp, 0.0_wp, m * g / 2] - kk * d - cc * dd
+      fl = [0.0_wp, 0.0_wp, self%mass * g / 2] - kk * d - cc * dd
       f = f + matmul(a, fl)
       mom = mom + cross(p2 - y(1:3), matmul(a, fl))
     end do
     ydot(1:3) = y(4:6)
-    ydot(4:6) = f / m
+    ydot(4:6) = f / self%mass
     ydot(7:15) = reshape(matmul(r, skew(wb)), [9])
-    ydot(16:18) = solve3(jj, matmul(transpose(r), mom) - cross(wb, matmul(jj, wb)))
+    ydot(16:18) = solve3(self%inertia, matmul(transpose(r), mom) - cross(wb, matmul(self%inertia, wb)))
   end subroutine abs_rhs
 
   !> 3x3 solve by Cramer's rule.
@@ -152,13 +158,16 @@ program test_absolute_formulation
   call compare('rd_track linear cant ramp and gradient change, body 8 m behind its frame', segtrack, law, 20.0_wp, 5.0_wp, &
                x_offset=-8.0_wp)
 
+  call compare('wheelset spinning at V/r0 on the linear-ramp track', segtrack, law, 20.0_wp, 5.0_wp, wheelset=.true.)
+
   if (failures > 0) error stop 1
   print '(a)', 'test_absolute_formulation: all checks passed'
 
 contains
 
-  subroutine compare(label, track, speed, sigma0, t_end, x_offset)
+  subroutine compare(label, track, speed, sigma0, t_end, x_offset, wheelset)
     real(wp), intent(in), optional :: x_offset
+    logical, intent(in), optional :: wheelset
     character(*), intent(in) :: label
     class(track_geometry_t), pointer, intent(in) :: track
     type(speed_law_t), intent(in) :: speed
@@ -171,7 +180,7 @@ contains
     type(linear_spring_damper_t) :: spring
     type(error_t), allocatable :: error
     real(wp), allocatable :: y(:), ydot(:)
-    real(wp) :: z(18), t, dr, drot, scale, a(3, 3), om(3), v0
+    real(wp) :: z(18), t, dr, drot, scale, a(3, 3), om(3), v0, rates(3)
     type(track_point_t) :: tp
     integer :: i, step
     logical :: ok, ok2, rec
@@ -183,10 +192,24 @@ contains
     body(1)%q0 = [0.01_wp, 0.02_wp, 0.03_wp, 0.05_wp, -0.04_wp, 0.03_wp]
     body(1)%qdot0 = [0.1_wp, -0.2_wp, 0.05_wp, 0.3_wp, 0.2_wp, -0.25_wp]
     if (present(x_offset)) body(1)%q0(1) = x_offset
+    ab%mass = m; ab%inertia = jj; ab%points = pts
+    if (present(wheelset)) then
+      ! a wheelset spinning at V/r0 (+ a deviation): strong gyroscopic coupling; springs at
+      ! axle-box points on the axle, which the spin does not move
+      body(1)%name = 'wheelset'
+      body(1)%is_wheelset = wheelset
+      body(1)%r0 = 0.45_wp
+      body(1)%inertia = reshape([800.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 100.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 800.0_wp], [3, 3])
+      body(1)%q0(3) = 0.45_wp
+      body(1)%q0(6) = 0.3_wp
+      ab%inertia = body(1)%inertia
+      ab%points = reshape([0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, -1.0_wp, 0.0_wp], [3, 2])
+    end if
     call mb%init(body, [0.0_wp], track, speed, error, sigma0=sigma0)
     do i = 1, 2
       spring%body1 = 0; spring%body2 = 1
-      spring%u1 = pts(:, i) + [body(1)%q0(1), 0.0_wp, 0.0_wp]; spring%u2 = pts(:, i)
+      spring%u1 = ab%points(:, i) + [body(1)%q0(1), 0.0_wp, body(1)%q0(3) - 0.03_wp]
+      spring%u2 = ab%points(:, i)
       spring%stiffness = kk; spring%damping = cc
       spring%preload = [0.0_wp, 0.0_wp, m * g / 2]
       call mb%add_element(spring, error)
@@ -196,6 +219,7 @@ contains
 
     ! initial absolute state, from the relative one by the kinematics written here
     ab%track => track; ab%speed = speed; ab%sigma0 = sigma0; ab%x_offset = body(1)%q0(1)
+    ab%z_ground = body(1)%q0(3) - 0.03_wp
     tp = track%evaluate(sigma0)
     a = tp%a
     v0 = speed%speed(0.0_wp)
@@ -203,7 +227,9 @@ contains
     z(1:3) = tp%r + matmul(a, body(1)%q0(1:3))
     z(4:6) = v0 * tp%dr + matmul(a, cross(om, body(1)%q0(1:3)) + body(1)%qdot0(1:3))
     z(7:15) = reshape(matmul(a, zxy_rotation(body(1)%q0(4:6))), [9])
-    z(16:18) = matmul(transpose(zxy_rotation(body(1)%q0(4:6))), om) + zxy_omega_body(body(1)%q0(4:6), body(1)%qdot0(4:6))
+    rates = body(1)%qdot0(4:6)
+    if (body(1)%is_wheelset) rates(3) = rates(3) + v0 / body(1)%r0     ! theta_dot = V/r0 + dbeta/dt
+    z(16:18) = matmul(transpose(zxy_rotation(body(1)%q0(4:6))), om) + zxy_omega_body(body(1)%q0(4:6), rates)
 
     settings%method = 'erk'
     settings%rtol = 1.0e-11_wp
