@@ -23,11 +23,12 @@ module wheelset_test_support
     procedure :: length => circle_length
   end type circle_track_t
 
-  !> Per body: lateral spring k_y (track Y), yaw spring k_yaw about the track Z, and a
-  !> constant vertical load (track -Z) at the CG.
+  !> Per body: lateral spring k_y and damper c_y (track Y), yaw spring k_yaw and damper
+  !> c_yaw about the track Z (relative to the track frame), and a constant vertical load
+  !> (track -Z) at the CG.
   type, extends(force_provider_t) :: restraint_t
     integer :: body = 1
-    real(wp) :: k_y = 0, k_yaw = 0, vertical_load = 0
+    real(wp) :: k_y = 0, k_yaw = 0, c_y = 0, c_yaw = 0, vertical_load = 0
   contains
     procedure :: add_forces => restraint_add_forces
   end type restraint_t
@@ -81,9 +82,9 @@ contains
     type(error_t), allocatable, intent(out) :: error
     associate (k => kin(self%body), a => kin(self%body)%track%a)
       forces(self%body)%force = forces(self%body)%force + &
-        matmul(a, [0.0_wp, -self%k_y * k%q(2), -self%vertical_load])
+        matmul(a, [0.0_wp, -self%k_y * k%q(2) - self%c_y * k%qdot(2), -self%vertical_load])
       forces(self%body)%moment_attach = forces(self%body)%moment_attach + &
-        matmul(a, [0.0_wp, 0.0_wp, -self%k_yaw * k%q(4)])
+        matmul(a, [0.0_wp, 0.0_wp, -self%k_yaw * k%q(4) - self%c_yaw * k%qdot(4)])
     end associate
   end subroutine restraint_add_forces
 
