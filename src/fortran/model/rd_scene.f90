@@ -506,7 +506,7 @@ contains
       type is (nonlinear_spring_t)
         el%free_length = el%free_length + mbs%el_res(e)%deflection
       type is (series_spring_damper_t)
-        el%free_length = el%free_length + norm2(mbs%el_res(e)%deflection)
+        el%free_length = el%free_length + mbs%el_res(e)%deflection(1)
       end select
     end do
   end subroutine nominal_lengths_from_initial_configuration

@@ -46,11 +46,9 @@ contains
           return
         end if
         allocate (surveyed)
-        call build_survey_track(surveyed, x, y, z, h, error)
-        if (allocated(error)) then
-          call error_context(error, deck%origin('track', 1, 'survey_file'))
-          return
-        end if
+        call build_survey_track(surveyed, x, y, z, h, error, cant_base=settings%cant_base, &
+                                gauge=settings%gauge, origin=deck%origin('track', 1, 'survey_file'))
+        if (allocated(error)) return
         call move_alloc(surveyed, track)
         return
       end if

@@ -28,7 +28,7 @@ contains
     type(track_point_t) :: p
     real(wp) :: ds, total
     integer :: i, n, id(nchan), unit, ios, status
-    character(len=*), parameter :: units(nchan) = [character(len=8) :: 'm', 'rad', '1/m', 'm', 'rad', '-']
+    character(len=*), parameter :: units(nchan) = [character(len=8) :: 'm', 'rad', '1/m', 'm', 'rad', '1']
     character(len=*), parameter :: comps(nchan) = [character(len=24) :: 'X Y Z', 'heading pitch cant', &
                                                     'kappa', 'h', 'phi', 'dz/dsigma']
     character(len=*), parameter :: descr(nchan) = [character(len=80) :: &
