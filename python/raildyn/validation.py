@@ -1,0 +1,1122 @@
+"""Validation harness: runs the validation scenes, compares them with published and expected
+behaviour, writes a self-contained HTML report.
+
+    python -m raildyn.validation [run] [--cases NAME ...] [--reuse] [--out DIR] [--exe PATH]
+    python -m raildyn.validation list
+    python -m raildyn.validation freeze CASE [--channels CH ...] [--rel 0.02] [--abs 1e-6]
+
+Cases (``CASES``): a deck in ``inputs/``, what to extract from its results, the comparison
+and its acceptance rule. Reference data and thresholds live in ``validation/`` (CSV files
+with their provenance in header comments):
+
+- ``validation/manchester_v1_tc1/packages.csv``: thesis tables 5.9-5.11 as printed,
+  ``corrections.csv``: documented digit slips. Acceptance: ``manchester_acceptance``.
+- ``validation/tgv_checks.csv``: the TGV 001 expectations with thresholds and justification;
+  the ``kind`` column names the check function in ``CHECK_KINDS``.
+- ``validation/curves/<case>/*.csv``: optional reference curves with tolerance bands
+  (columns time, value, lower, upper; the channel in a ``# channel:`` header line).
+- ``validation/baselines/<case>.csv``: frozen approved runs of our own (``freeze``), compared
+  at every later run of the case.
+
+Runs use the runner (``<build>/bin/raildyn run DECK -o OUT``), read results with
+``raildyn.Results``; everything is SI and follows docs/conventions.md. See
+docs/validation.md for the cases, rules and how to add one.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import datetime as _dt
+import hashlib
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Iterable, Sequence
+
+import numpy as np
+
+from .results import Results
+
+REPO = Path(__file__).resolve().parents[2]
+INPUTS = REPO / "inputs"
+VALIDATION = REPO / "validation"
+
+__all__ = ["CASES", "Case", "CaseResult", "Check", "band_verdict", "manchester_acceptance",
+           "load_package_table", "half_cycle_peaks", "growth_rate", "oscillation_wavelength",
+           "window_mean", "run_case", "run_cases", "freeze_baseline", "compare_band_curve",
+           "read_band_csv", "deck_assumptions", "deck_files", "main"]
+
+# ------------------------------------------------------------------------------------------
+# small data types
+
+
+@dataclass
+class Check:
+    """One pass/fail statement of a case."""
+    name: str
+    passed: bool
+    value: float | None = None       #: measured value (SI unit of ``unit``)
+    limit: str = ""                  #: the acceptance limit in words (e.g. '< 0 1/s')
+    unit: str = ""
+    detail: str = ""                 #: justification / how it was measured / why it failed
+
+
+@dataclass
+class Table:
+    """A comparison table for the report: column names and rows of cells (str or float);
+    ``status`` holds one bool per row (pass/fail colouring) or None."""
+    title: str
+    columns: list[str]
+    rows: list[list]
+    status: list[bool | None] = field(default_factory=list)
+    note: str = ""
+
+
+@dataclass
+class CaseResult:
+    name: str
+    title: str = ""
+    description: str = ""
+    deck: str = ""
+    results_path: str = ""
+    status: str = "not run"          #: run status ('completed', 'failed: ...', 'not run', ...)
+    run_wall_time: float | None = None
+    raildyn_version: str = ""
+    deck_sha256: str = ""
+    assumptions: list[str] = field(default_factory=list)
+    checks: list[Check] = field(default_factory=list)
+    tables: list[Table] = field(default_factory=list)
+    plots: list[tuple[str, bytes]] = field(default_factory=list)   #: (title, PNG bytes)
+    notes: list[str] = field(default_factory=list)
+    error: str = ""                  #: why the case could not be evaluated
+
+    @property
+    def passed(self) -> bool:
+        return not self.error and bool(self.checks) and all(c.passed for c in self.checks)
+
+    def summary(self) -> str:
+        lines = [f"case {self.name}: {'PASS' if self.passed else 'FAIL'} (run status: {self.status})"]
+        if self.error:
+            lines.append(f"  error: {self.error}")
+        for c in self.checks:
+            v = "" if c.value is None else f" = {c.value:.6g} {c.unit}".rstrip()
+            lines.append(f"  [{'ok' if c.passed else 'FAIL'}] {c.name}{v} (limit {c.limit}) {c.detail}".rstrip())
+        return "\n".join(lines)
+
+
+class CaseError(RuntimeError):
+    """A case cannot be evaluated (missing results, missing channel, run failure)."""
+
+
+# ------------------------------------------------------------------------------------------
+# CSV with header comments
+
+
+def read_commented_csv(path: str | os.PathLike) -> tuple[list[str], list[dict[str, str]]]:
+    """Header comment lines (without '# ') and the rows as dicts."""
+    comments, lines = [], []
+    with open(path, newline="") as f:
+        for line in f:
+            if line.startswith("#"):
+                comments.append(line[1:].strip())
+            elif line.strip():
+                lines.append(line)
+    return comments, list(csv.DictReader(lines))
+
+
+# ------------------------------------------------------------------------------------------
+# Manchester tables and the acceptance rule
+
+#: Commercial packages of the benchmark (VIA is the thesis' own code, shown but not used).
+PACKAGES = ("SIMPACK", "VAMPIRE", "GENSYS", "ADAMS", "NUCARS")
+UNIT_SCALE = {"mm": 1e-3, "mrad": 1e-3, "kN": 1e3, "m": 1.0, "rad": 1.0, "N": 1.0}
+SI_UNIT = {"mm": "m", "mrad": "rad", "kN": "N"}
+
+
+@dataclass
+class PackageEntry:
+    quantity: str
+    wheelset: int
+    side: str                       #: 'left' / 'right' / '' (wheelset quantities)
+    unit: str                       #: printed unit (mm, mrad, kN)
+    via: float                      #: printed VIA value
+    printed: dict[str, float]       #: package -> printed value
+    values: dict[str, float]        #: package -> value after corrections (printed unit)
+    corrections: list[str] = field(default_factory=list)
+
+    @property
+    def key(self) -> str:
+        return f"{self.quantity} ws{self.wheelset}" + (f" {self.side}" if self.side else "")
+
+    def magnitudes_si(self) -> np.ndarray:
+        return np.array([abs(self.values[p]) for p in PACKAGES]) * UNIT_SCALE[self.unit]
+
+    def consensus_sign(self) -> float:
+        return float(np.sign(np.median([self.values[p] for p in PACKAGES])))
+
+
+def load_package_table(path: str | os.PathLike | None = None,
+                       corrections: str | os.PathLike | None = None,
+                       apply_corrections: bool = True) -> list[PackageEntry]:
+    """Thesis tables 5.9-5.11 (validation/manchester_v1_tc1/packages.csv) with the
+    documented corrections applied (corrections.csv)."""
+    base = VALIDATION / "manchester_v1_tc1"
+    _, rows = read_commented_csv(path or base / "packages.csv")
+    fixes: dict[tuple, tuple[float, float, str]] = {}
+    corr_path = Path(corrections) if corrections else base / "corrections.csv"
+    if apply_corrections and corr_path.exists():
+        for r in read_commented_csv(corr_path)[1]:
+            fixes[(r["quantity"], int(r["wheelset"]), r["side"], r["package"])] = (
+                float(r["printed"]), float(r["corrected"]), r["evidence"])
+    entries = []
+    for r in rows:
+        printed = {p: float(r[p]) for p in PACKAGES}
+        values = dict(printed)
+        notes = []
+        for p in PACKAGES:
+            fix = fixes.pop((r["quantity"], int(r["wheelset"]), r["side"], p), None)
+            if fix is not None:
+                if not math.isclose(fix[0], printed[p]):
+                    raise ValueError(f"{corr_path}: correction of {r['quantity']} ws{r['wheelset']} "
+                                     f"{r['side']} {p} expects printed {fix[0]}, table has {printed[p]}")
+                values[p] = fix[1]
+                notes.append(f"{p} {fix[0]:g} -> {fix[1]:g} ({fix[2]})")
+        entries.append(PackageEntry(r["quantity"], int(r["wheelset"]), r["side"], r["unit"],
+                                    float(r["VIA"]), printed, values, notes))
+    if fixes:
+        raise ValueError(f"{corr_path}: corrections match no table entry: {sorted(fixes)}")
+    return entries
+
+
+@dataclass
+class BandVerdict:
+    """The Manchester rule for one entry (all magnitudes, SI)."""
+    value: float          #: raildyn's magnitude
+    lower: float          #: smallest package magnitude
+    upper: float          #: largest package magnitude
+    median: float         #: median package magnitude
+    band_lower: float     #: lower - 10% median
+    band_upper: float     #: upper + 10% median
+    off_percent: float    #: distance to the nearest range bound, % of the median (0 inside)
+    within: bool          #: inside the widened band
+
+
+def band_verdict(value: float, package_values: Sequence[float], widen: float = 0.10) -> BandVerdict:
+    """Compare |value| with the range of |package_values|: the band is [min - widen*median,
+    max + widen*median]; 'off by' is the distance from |value| to the nearest bound of the
+    *unwidened* range [min, max], in percent of the median (so an entry inside the band is off
+    by at most 100*widen %)."""
+    mags = np.abs(np.asarray(package_values, float))
+    if mags.size == 0 or not np.all(np.isfinite(mags)) or not math.isfinite(value):
+        raise ValueError("band_verdict: finite value and package values needed")
+    v = abs(float(value))
+    lo, hi, med = float(mags.min()), float(mags.max()), float(np.median(mags))
+    if med <= 0:
+        raise ValueError("band_verdict: the package median is zero; 'off by' is undefined")
+    dist = max(lo - v, v - hi, 0.0)
+    return BandVerdict(v, lo, hi, med, lo - widen * med, hi + widen * med, 100.0 * dist / med,
+                       lo - widen * med <= v <= hi + widen * med)
+
+
+@dataclass
+class AcceptanceOutcome:
+    passed: bool
+    fraction_within: float
+    max_off_percent: float
+    n_entries: int
+
+
+def manchester_acceptance(verdicts: Sequence[BandVerdict], min_fraction: float = 0.90,
+                          max_off_percent: float = 30.0) -> AcceptanceOutcome:
+    """The task's rule: at least ``min_fraction`` of the entries inside their widened band
+    and none off by more than ``max_off_percent`` % of its median."""
+    if not verdicts:
+        return AcceptanceOutcome(False, 0.0, math.inf, 0)
+    frac = sum(v.within for v in verdicts) / len(verdicts)
+    worst = max(v.off_percent for v in verdicts)
+    return AcceptanceOutcome(frac >= min_fraction and worst <= max_off_percent, frac, worst,
+                             len(verdicts))
+
+
+# ------------------------------------------------------------------------------------------
+# signal analysis
+
+
+def window_mask(t: np.ndarray, t_from: float, t_to: float) -> np.ndarray:
+    return (t >= t_from - 1e-12) & (t <= t_to + 1e-12)
+
+
+def window_mean(t: np.ndarray, y: np.ndarray, t_from: float, t_to: float) -> float:
+    m = window_mask(t, t_from, t_to)
+    if m.sum() < 2:
+        raise CaseError(f"window [{t_from:g}, {t_to:g}] s holds fewer than 2 output points "
+                        f"(results cover {t[0]:g} to {t[-1]:g} s)" if t.size else "no output rows")
+    return float(np.mean(y[m]))
+
+
+def half_cycle_peaks(t: np.ndarray, y: np.ndarray, floor: float = 1e-9) -> tuple[np.ndarray, np.ndarray]:
+    """Peaks of |y| in each half cycle: the largest |y| between consecutive sign changes of y
+    (the first and last, incomplete half cycles are dropped). Peaks below ``floor`` are
+    dropped (numerical noise once the motion has died out)."""
+    t = np.asarray(t, float)
+    y = np.asarray(y, float)
+    s = np.sign(y)
+    nz = np.flatnonzero(s != 0)
+    if nz.size < 2:
+        return np.empty(0), np.empty(0)
+    change = nz[1:][s[nz[1:]] != s[nz[:-1]]]        # first index of each new sign run
+    tp, ap = [], []
+    for a, b in zip(change[:-1], change[1:]):
+        k = a + int(np.argmax(np.abs(y[a:b])))
+        if abs(y[k]) > floor:
+            tp.append(t[k])
+            ap.append(abs(y[k]))
+    return np.array(tp), np.array(ap)
+
+
+def growth_rate(t: np.ndarray, y: np.ndarray, floor: float = 1e-9) -> tuple[float, int]:
+    """Exponential growth rate of the oscillation envelope [1/s] (negative: decay): slope of
+    the least-squares line through ln(peak) against peak time (the logarithmic decrement per
+    half cycle divided by the half period). Without 3 peaks (over-damped motion) the rate
+    compares the largest |y| in the first and last fifths of the window. Returns (rate,
+    number of peaks used)."""
+    tp, ap = half_cycle_peaks(t, y, floor)
+    if tp.size >= 3:
+        slope = np.polyfit(tp, np.log(ap), 1)[0]
+        return float(slope), int(tp.size)
+    n = len(t)
+    if n < 10:
+        raise CaseError("too few output points to estimate a growth rate")
+    k = max(n // 5, 1)
+    a0 = np.max(np.abs(y[:k]))
+    a1 = np.max(np.abs(y[-k:]))
+    a0, a1 = max(a0, floor), max(a1, floor)
+    return float(np.log(a1 / a0) / (t[-k // 2] - t[k // 2])), int(tp.size)
+
+
+def oscillation_wavelength(t: np.ndarray, y: np.ndarray, speed: float) -> float:
+    """Wavelength [m] = speed x period, the period from the mean spacing of the zero
+    crossings (two per period, linearly interpolated)."""
+    t = np.asarray(t, float)
+    y = np.asarray(y, float)
+    i = np.flatnonzero(np.sign(y[:-1]) * np.sign(y[1:]) < 0)
+    if i.size < 3:
+        raise CaseError("fewer than 3 zero crossings: no oscillation to measure a wavelength")
+    tc = t[i] - y[i] * (t[i + 1] - t[i]) / (y[i + 1] - y[i])
+    return float(speed * 2.0 * np.mean(np.diff(tc)))
+
+
+# ------------------------------------------------------------------------------------------
+# band curves: reference curves and frozen baselines
+
+
+def read_band_csv(path: str | os.PathLike) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """A band CSV: either a reference curve (columns time, value, lower, upper and a header
+    comment '# channel: <path:component>') or a baseline (columns time, <ch>, <ch>:lower,
+    <ch>:upper for several channels). Returns {channel: (time, value, lower, upper)}."""
+    comments, rows = read_commented_csv(path)
+    if not rows:
+        raise ValueError(f"{path}: no data rows")
+    cols = list(rows[0].keys())
+    data = {c: np.array([float(r[c]) for r in rows]) for c in cols}
+    if "time" not in data:
+        raise ValueError(f"{path}: no 'time' column")
+    out = {}
+    if "value" in data:
+        chans = [c.split(":", 1)[1].strip() for c in comments if c.lower().startswith("channel:")]
+        if len(chans) != 1:
+            raise ValueError(f"{path}: a reference curve needs one '# channel: <series:component>' line")
+        out[chans[0]] = (data["time"], data["value"], data["lower"], data["upper"])
+    else:
+        for c in cols:
+            if c == "time" or c.endswith(":lower") or c.endswith(":upper"):
+                continue
+            out[c] = (data["time"], data[c], data[c + ":lower"], data[c + ":upper"])
+    for ch, (_, v, lo, hi) in out.items():
+        if np.any(lo > v) or np.any(hi < v):
+            raise ValueError(f"{path}: band of {ch} does not contain its value")
+    return out
+
+
+def compare_band_curve(t: np.ndarray, y: np.ndarray, t_ref: np.ndarray, lower: np.ndarray,
+                       upper: np.ndarray) -> tuple[bool, float, float, int]:
+    """Interpolate the result (t, y) at the reference times inside the result's time span
+    and check lower <= y <= upper. Returns (passed, largest violation [channel unit], time of
+    it, number of points compared); no overlap fails."""
+    m = (t_ref >= t[0] - 1e-12) & (t_ref <= t[-1] + 1e-12)
+    if not m.any():
+        return False, math.inf, math.nan, 0
+    yi = np.interp(t_ref[m], t, y)
+    viol = np.maximum(lower[m] - yi, yi - upper[m])
+    k = int(np.argmax(viol))
+    return bool(np.all(viol <= 0)), float(max(viol[k], 0.0)), float(t_ref[m][k]), int(m.sum())
+
+
+def freeze_baseline(case: str, results_path: str | os.PathLike, channels: Sequence[str],
+                    out: str | os.PathLike | None = None, rel: float = 0.02, abs_tol: float = 1e-6,
+                    every: int = 1) -> Path:
+    """Copy channels of an approved run into validation/baselines/<case>.csv with a band
+    value +- (rel * (max - min over the run) + abs_tol)."""
+    out = Path(out) if out else VALIDATION / "baselines" / f"{case}.csv"
+    with Results(results_path) as r:
+        t = r.time[::every]
+        cols, header = [t], ["time"]
+        for ch in channels:
+            y = np.asarray(r.get(ch), float)
+            if y.ndim != 1:
+                raise ValueError(f"freeze: give one column ('series:component'), not {ch!r}")
+            y = y[::every]
+            half = rel * float(np.ptp(y)) + abs_tol
+            cols += [y, y - half, y + half]
+            header += [ch, ch + ":lower", ch + ":upper"]
+        meta = r.metadata
+        deck_hash = hashlib.sha256((r.deck_text or "").encode()).hexdigest()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with open(out, "w", newline="") as f:
+        f.write(f"# Regression baseline of validation case '{case}', frozen "
+                f"{_dt.datetime.now(_dt.timezone.utc).isoformat(timespec='seconds')} from "
+                f"{os.fspath(results_path)}\n")
+        f.write(f"# raildyn {meta.get('raildyn_version')}, deck sha256 {deck_hash}, run status "
+                f"{meta.get('status')}\n")
+        f.write(f"# band: value +- ({rel:g} x channel range over the run + {abs_tol:g}) (SI units)\n")
+        w = csv.writer(f)
+        w.writerow(header)
+        for row in np.column_stack(cols):
+            w.writerow([f"{x:.10g}" for x in row])
+    return out
+
+
+# ------------------------------------------------------------------------------------------
+# decks: include tree, hashes, ASSUMPTION lines
+
+_INCLUDE = re.compile(r"&include\s+file\s*=\s*(['\"])(.*?)\1", re.IGNORECASE)
+
+
+def deck_files(deck: str | os.PathLike) -> list[Path]:
+    """The deck and every deck it includes (depth first, each once)."""
+    seen: list[Path] = []
+
+    def visit(p: Path) -> None:
+        p = p.resolve()
+        if p in seen:
+            return
+        seen.append(p)
+        for line in p.read_text().splitlines():
+            code = line.split("!", 1)[0]
+            for m in _INCLUDE.finditer(code):
+                visit((p.parent / m.group(2)) if not os.path.isabs(m.group(2)) else Path(m.group(2)))
+
+    visit(Path(deck))
+    return seen
+
+
+def deck_assumptions(deck: str | os.PathLike) -> list[str]:
+    """'! ASSUMPTION: ...' comment blocks of the deck and its includes (continuation lines
+    are the following comment lines indented by more than one blank), prefixed by the file."""
+    out = []
+    for p in deck_files(deck):
+        lines = p.read_text().splitlines()
+        i = 0
+        while i < len(lines):
+            s = lines[i].strip()
+            if s.startswith("!") and s[1:].strip().upper().startswith("ASSUMPTION"):
+                text = s[1:].strip()
+                text = text[len("ASSUMPTION"):].lstrip(":").strip()
+                i += 1
+                while i < len(lines) and re.match(r"^\s*!\s{2,}\S", lines[i]):
+                    text += " " + lines[i].strip()[1:].strip()
+                    i += 1
+                out.append(f"{p.relative_to(REPO) if p.is_relative_to(REPO) else p}: {text}")
+            else:
+                i += 1
+    return out
+
+
+def deck_sha256(deck: str | os.PathLike) -> str:
+    h = hashlib.sha256()
+    for p in deck_files(deck):
+        h.update(p.read_bytes())
+    return h.hexdigest()
+
+
+# ------------------------------------------------------------------------------------------
+# running
+
+
+def find_executable(exe: str | os.PathLike | None = None) -> Path:
+    """The raildyn runner: explicit path, $RAILDYN_EXE, $RAILDYN_BUILD_DIR/bin/raildyn,
+    <repo>/build/bin/raildyn."""
+    cands = []
+    if exe:
+        cands.append(Path(exe))
+    if os.environ.get("RAILDYN_EXE"):
+        cands.append(Path(os.environ["RAILDYN_EXE"]))
+    if os.environ.get("RAILDYN_BUILD_DIR"):
+        cands.append(Path(os.environ["RAILDYN_BUILD_DIR"]) / "bin" / "raildyn")
+    cands.append(REPO / "build" / "bin" / "raildyn")
+    for c in cands:
+        if c.is_file() and os.access(c, os.X_OK):
+            return c
+    raise CaseError("raildyn executable not found (tried " + ", ".join(map(str, cands)) +
+                    "); build it or pass --exe / set RAILDYN_BUILD_DIR")
+
+
+#: runner exit statuses (README): 3 = physics limit (derailment, lift-off): results readable
+_EXIT = {0: "completed", 1: "bad input", 2: "solver failure", 3: "physics limit", 4: "file error",
+         5: "internal error"}
+
+
+@dataclass
+class RunInfo:
+    results: Path
+    returncode: int
+    wall_time: float
+    stderr: str
+    reused: bool = False
+
+
+def run_deck(deck: Path, results: Path, exe: str | os.PathLike | None = None, overrides: str = "",
+             timeout: float = 3600, reuse: bool = False) -> RunInfo:
+    """Run a deck (optionally with override groups appended through an including deck next to
+    the results) and return where the results are. Statuses 0 and 3 leave usable results.
+    ``exe`` as for ``find_executable`` (looked up only when a run is needed)."""
+    if reuse and results.exists():
+        return RunInfo(results, 0, 0.0, "", reused=True)
+    exe = find_executable(exe)
+    results.parent.mkdir(parents=True, exist_ok=True)
+    run_deck_path = deck
+    if overrides:
+        run_deck_path = results.with_suffix(".nml")
+        run_deck_path.write_text(f"! generated by raildyn.validation: {deck.name} with overrides\n"
+                                 f"&include file = '{deck.resolve()}' /\n{overrides}\n")
+    if results.exists():
+        results.unlink()
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run([os.fspath(exe), "run", os.fspath(run_deck_path), "-o", os.fspath(results)],
+                              capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        raise CaseError(f"raildyn run {run_deck_path.name} exceeded {timeout:g} s") from None
+    wall = time.perf_counter() - t0
+    if proc.returncode not in (0, 3):
+        msg = (proc.stderr.strip() or proc.stdout.strip()).splitlines()
+        raise CaseError(f"raildyn run {run_deck_path} exited with {proc.returncode} "
+                        f"({_EXIT.get(proc.returncode, '?')}): {msg[-1] if msg else 'no message'}")
+    if not results.exists():
+        raise CaseError(f"raildyn run {run_deck_path} wrote no results file {results}")
+    return RunInfo(results, proc.returncode, wall, proc.stderr)
+
+
+# ------------------------------------------------------------------------------------------
+# case context and registry
+
+
+class Context:
+    """What an evaluation function works with: the case's results and helpers."""
+
+    def __init__(self, case: "Case", result: CaseResult, results: Results | None, out_dir: Path,
+                 exe: str | os.PathLike | None, reuse: bool, others: dict[str, Path]):
+        self.case, self.result, self.r, self.out_dir = case, result, results, out_dir
+        self.exe, self.reuse, self.others = exe, reuse, others
+        self.cache: dict = {}        #: values shared by the checks of one evaluation
+
+    # data access with a clear message when the scene did not write a channel
+    def get(self, channel: str, results: Results | None = None) -> np.ndarray:
+        r = results or self.r
+        if r is None:
+            raise CaseError(f"case {self.case.name} has no results of its own")
+        if channel not in r:
+            bodies = [c for c in r.channels() if c.startswith(("bodies/", "wheelsets/"))]
+            hint = ("" if bodies else " (the results hold no bodies/ or wheelsets/ series: the "
+                    "scene did not build bodies and wheelsets from the deck)")
+            raise CaseError(f"{Path(r.path).name}: no channel {channel!r}{hint}")
+        return np.asarray(r.get(channel), float)
+
+    def time(self, results: Results | None = None) -> np.ndarray:
+        return np.asarray((results or self.r).time, float)
+
+    def speed(self, results: Results | None = None) -> float:
+        return float(np.mean(self.get("vehicle/speed:V", results)))
+
+    def check(self, name: str, passed: bool, value: float | None = None, limit: str = "",
+              unit: str = "", detail: str = "") -> Check:
+        c = Check(name, bool(passed), value, limit, unit, detail)
+        self.result.checks.append(c)
+        return c
+
+    def plot(self, title: str, series: Iterable[tuple[str, np.ndarray, np.ndarray]], ylabel: str,
+             scale: float = 1.0, window: tuple[float, float] | None = None,
+             bands: Iterable[tuple[str, np.ndarray, np.ndarray, np.ndarray]] = ()) -> None:
+        from .report import figure_png
+        self.result.plots.append((title, figure_png(title, list(series), ylabel, scale, window,
+                                                    list(bands))))
+
+    def other_results(self, case_name: str) -> Results:
+        if case_name not in self.others:
+            raise CaseError(f"case {self.case.name} needs the results of case {case_name}")
+        return Results(self.others[case_name])
+
+    def run_variant(self, tag: str, overrides: str) -> Results:
+        """Run the case's deck with override groups (e.g. another speed) into out_dir."""
+        info = run_deck(self.case.deck_path, self.out_dir / f"{self.case.name}__{tag}.h5", self.exe,
+                        overrides, reuse=self.reuse)
+        return Results(info.results)
+
+
+@dataclass
+class Case:
+    name: str
+    deck: str                                   #: relative to inputs/
+    title: str
+    description: str
+    evaluate: Callable[[Context], None]
+    needs: tuple[str, ...] = ()                 #: cases whose results this one compares with
+    baseline_channels: tuple[str, ...] = ()     #: default channels of ``freeze``
+    run: bool = True                            #: False: evaluation runs its own variants only
+
+    @property
+    def deck_path(self) -> Path:
+        return INPUTS / self.deck
+
+
+# -- Manchester V1 TC1 ----------------------------------------------------------------------
+
+#: Quasi-static window of the Manchester case: the vehicle reference (car body centre) between
+#: these track positions [m] has every wheelset at least 15 m inside the constant curve
+#: (curve 80-140 m; wheelsets at +-8.22, +-10.78 m from the reference), see the deck header.
+MANCHESTER_SIGMA_WINDOW = (106.0, 128.5)
+
+_MB_CHANNEL = {
+    "lateral_shift": ("bodies/ws{k}/position_track:y", "m"),
+    "yaw": ("bodies/ws{k}/position_track:yaw", "rad"),
+    "longitudinal_force": ("wheelsets/w{k}/{side}/force_track:fx", "N"),
+    "lateral_force": ("wheelsets/w{k}/{side}/force_track:fy", "N"),
+    "vertical_force": ("wheelsets/w{k}/{side}/force_track:fz", "N"),
+}
+
+
+def manchester_window(ctx: Context) -> tuple[float, float]:
+    t = ctx.time()
+    sigma = ctx.get("vehicle/distance:sigma")
+    m = (sigma >= MANCHESTER_SIGMA_WINDOW[0]) & (sigma <= MANCHESTER_SIGMA_WINDOW[1])
+    if m.sum() < 2:
+        raise CaseError(f"the run does not reach the quasi-static window (reference sigma "
+                        f"{MANCHESTER_SIGMA_WINDOW[0]:g}-{MANCHESTER_SIGMA_WINDOW[1]:g} m); it ends at "
+                        f"sigma = {sigma[-1] if sigma.size else float('nan'):.2f} m, t = "
+                        f"{t[-1] if t.size else float('nan'):.2f} s")
+    return float(t[m][0]), float(t[m][-1])
+
+
+def evaluate_manchester(ctx: Context) -> None:
+    entries = load_package_table()
+    t = ctx.time()
+    w0, w1 = manchester_window(ctx)
+    verdicts, rows, status = [], [], []
+    sign_rel: dict[str, set] = {}
+    for e in entries:
+        ch = _MB_CHANNEL[e.quantity][0].format(k=e.wheelset, side=e.side)
+        ours = window_mean(t, ctx.get(ch), w0, w1)
+        v = band_verdict(ours, e.magnitudes_si())
+        verdicts.append(v)
+        s = UNIT_SCALE[e.unit]
+        if abs(ours) > 0.1 * v.median:   # sign relation vs the package consensus (information)
+            sign_rel.setdefault(e.quantity, set()).add(np.sign(ours) * e.consensus_sign())
+        rows.append([e.key, e.unit, f"{ours / s:.4g}", f"{v.lower / s:.4g}", f"{v.upper / s:.4g}",
+                     f"{v.median / s:.4g}", f"{v.band_lower / s:.4g} .. {v.band_upper / s:.4g}",
+                     f"{v.off_percent:.1f}", f"{e.via:g}", "; ".join(e.corrections)])
+        status.append(v.within)
+    out = manchester_acceptance(verdicts)
+    ctx.result.tables.append(Table(
+        f"Quasi-static values, window t = {w0:.2f}-{w1:.2f} s (reference sigma "
+        f"{MANCHESTER_SIGMA_WINDOW[0]:g}-{MANCHESTER_SIGMA_WINDOW[1]:g} m): magnitudes",
+        ["entry", "unit", "raildyn (signed)", "package min |.|", "package max |.|", "median",
+         "band (+-10% median)", "off by % median", "VIA (thesis)", "corrections"], rows, status,
+        "Packages: SIMPACK, VAMPIRE, GENSYS, ADAMS/Rail, NUCARS (thesis tables 5.9-5.11). "
+        "Compared as magnitudes because the tables carry sign slips; 'off by' is the distance "
+        "to the nearest bound of the unwidened package range."))
+    ctx.check("entries inside the widened package band", out.fraction_within >= 0.90,
+              out.fraction_within, ">= 0.90", "1",
+              f"{sum(v.within for v in verdicts)} of {out.n_entries} entries")
+    ctx.check("largest deviation from the package range", out.max_off_percent <= 30.0,
+              out.max_off_percent, "<= 30 % of the median", "%",
+              f"worst entry: {entries[int(np.argmax([v.off_percent for v in verdicts]))].key}")
+    mixed = [q for q, s in sign_rel.items() if len(s) > 1]
+    ctx.result.notes.append(
+        "Sign pattern (information, not part of the rule): per quantity, raildyn's signs relative "
+        "to the package consensus are " + ", ".join(
+            f"{q}: {'consistent' if len(s) == 1 else 'MIXED'}" for q, s in sign_rel.items()) +
+        (". Mixed patterns point at a wheelset or wheel behaving differently from the packages."
+         if mixed else "."))
+    # static balance (information): sum of vertical wheel forces against the weight
+    qsum = sum(window_mean(t, ctx.get(f"wheelsets/w{k}/{side}/force_track:fz"), w0, w1)
+               for k in range(1, 5) for side in ("left", "right"))
+    ctx.result.notes.append(f"Sum of vertical wheel forces in the window: {qsum / 1e3:.2f} kN "
+                            f"(vehicle weight 44 482 kg x g = 436.22 kN).")
+    ws = range(1, 5)
+    ctx.plot("Lateral shift of the wheelsets", [(f"ws{k}", t, ctx.get(f"bodies/ws{k}/position_track:y"))
+                                                 for k in ws], "y [mm]", 1e3, (w0, w1))
+    ctx.plot("Yaw angle of the wheelsets", [(f"ws{k}", t, ctx.get(f"bodies/ws{k}/position_track:yaw"))
+                                             for k in ws], "yaw [mrad]", 1e3, (w0, w1))
+    for q, comp in (("Lateral", "fy"), ("Vertical", "fz"), ("Longitudinal", "fx")):
+        ctx.plot(f"{q} wheel forces (track frame, on the wheel)",
+                 [(f"ws{k} {side}", t, ctx.get(f"wheelsets/w{k}/{side}/force_track:{comp}"))
+                  for k in ws for side in ("left", "right")], "force [kN]", 1e-3, (w0, w1))
+    if all(f"wheelsets/w1/{s}/Y_Q" in ctx.r for s in ("left", "right")):
+        ctx.plot("Y/Q of wheelset 1", [(f"ws1 {s}", t, ctx.get(f"wheelsets/w1/{s}/Y_Q:Y_Q"))
+                                       for s in ("left", "right")], "Y/Q [-]", 1.0, (w0, w1))
+
+
+# -- TGV checks -----------------------------------------------------------------------------
+
+
+def load_tgv_checks(path: str | os.PathLike | None = None) -> list[dict[str, str]]:
+    return read_commented_csv(path or VALIDATION / "tgv_checks.csv")[1]
+
+
+#: The designed track curves to the left (inputs/tracks/tgv_designed_track.nml): outward = -y.
+TGV_OUTWARD_SIGN = -1.0
+
+
+def _window(ctx: Context, row: dict, channel: str | None = None, results: Results | None = None):
+    t = ctx.time(results)
+    t0, t1 = float(row["t_from"]), float(row["t_to"])
+    y = ctx.get(channel or row["channel"], results)
+    m = window_mask(t, t0, t1)
+    if m.sum() < 2:
+        raise CaseError(f"check {row['id']}: window [{t0:g}, {t1:g}] s not covered (results end at "
+                        f"{t[-1] if t.size else float('nan'):g} s)")
+    return t[m], y[m]
+
+
+def _kind_growth(ctx, row, above: bool):
+    t, y = _window(ctx, row)
+    rate, npk = growth_rate(t, y)
+    thr = float(row["threshold"])
+    ok = rate > thr if above else rate < thr
+    ctx.check(row["id"], ok, rate, f"{'>' if above else '<'} {thr:g}", "1/s",
+              f"{npk} half-cycle peaks; {row['justification']}")
+
+
+def _kind_amplitude(ctx, row, above: bool):
+    t, y = _window(ctx, row)
+    amp = float(np.max(np.abs(y)))
+    thr = float(row["threshold"])
+    ctx.check(row["id"], amp > thr if above else amp < thr, amp, f"{'>' if above else '<'} {thr:g}",
+              row["unit"], row["justification"])
+
+
+def _kind_relative_amplitude(ctx, row, above: bool):
+    t_all = ctx.time()
+    y_all = ctx.get(row["channel"])
+    before = t_all < float(row["t_from"]) - 1e-12
+    if not before.any():
+        raise CaseError(f"check {row['id']}: no output before the window")
+    peak = float(np.max(np.abs(y_all[before])))
+    _, y = _window(ctx, row)
+    amp = float(np.max(np.abs(y)))
+    ratio = amp / peak if peak > 0 else math.inf
+    thr = float(row["threshold"])
+    ctx.check(row["id"], ratio > thr if above else ratio < thr, ratio, f"{'>' if above else '<'} {thr:g}",
+              "1", f"max |y| {amp * 1e3:.4f} mm in the window, {peak * 1e3:.4f} mm before; "
+              f"{row['justification']}")
+
+
+def _kind_wavelength(ctx, row, above: bool):
+    t, y = _window(ctx, row)
+    lam = oscillation_wavelength(t, y, ctx.speed())
+    thr = float(row["threshold"])
+    ctx.check(row["id"], lam > thr if above else lam < thr, lam, f"{'>' if above else '<'} {thr:g}",
+              "m", row["justification"])
+
+
+def _kind_outward(ctx, row, above: bool):
+    t, y = _window(ctx, row)
+    out = TGV_OUTWARD_SIGN * float(np.mean(y))
+    thr = float(row["threshold"])
+    ctx.check(row["id"], out > thr if above else out < thr, out, f"{'>' if above else '<'} {thr:g}",
+              "m", f"mean outward shift in the window; {row['justification']}")
+
+
+def _kind_outward_less(ctx, row):
+    a_ch, b_ch = row["channel"].split("|")
+    _, a = _window(ctx, row, a_ch)
+    _, b = _window(ctx, row, b_ch)
+    da = TGV_OUTWARD_SIGN * float(np.mean(a))
+    db = TGV_OUTWARD_SIGN * float(np.mean(b))
+    ctx.check(row["id"], da < db - float(row["threshold"]), da - db, "< 0", "m",
+              f"outward {a_ch.split('/')[1]} {da * 1e3:.3f} mm vs {b_ch.split('/')[1]} {db * 1e3:.3f} mm; "
+              f"{row['justification']}")
+
+
+def _kind_steadiness(ctx, row):
+    _, y = _window(ctx, row)
+    mean, std = float(np.mean(y)), float(np.std(y))
+    thr = float(row["threshold"])
+    ok = std < thr * abs(mean) or std < 5e-5
+    ctx.check(row["id"], ok, std / abs(mean) if mean else math.inf, f"< {thr:g} (or std < 0.05 mm)", "1",
+              f"std {std * 1e3:.4f} mm, mean {mean * 1e3:.4f} mm; {row['justification']}")
+
+
+def _kind_same_mean(ctx, row):
+    a_ch, b_ch = row["channel"].split("|")
+    _, a = _window(ctx, row, a_ch)
+    _, b = _window(ctx, row, b_ch)
+    ma, mb = float(np.mean(a)), float(np.mean(b))
+    thr = float(row["threshold"])
+    rel = abs(ma - mb) / max(abs(mb), 1e-12)
+    ctx.check(row["id"], abs(ma - mb) <= max(thr * abs(mb), 1e-4), rel, f"<= {thr:g} (or 0.1 mm)", "1",
+              f"{a_ch.split('/')[1]} {ma * 1e3:.3f} mm vs {b_ch.split('/')[1]} {mb * 1e3:.3f} mm; "
+              f"{row['justification']}")
+
+
+def _kind_flange_contact(ctx, row):
+    base = row["channel"]              # wheelsets/<w>/<side>
+    side = base.rsplit("/", 1)[1]
+    sgn = 1.0 if side == "right" else -1.0   # conventions: gamma > 0 at a right flange contact
+    gam = []
+    j = 1
+    while f"{base}/contact{j}/geometry" in ctx.r:
+        _, g = _window(ctx, row, f"{base}/contact{j}/geometry:gamma")
+        _, act = _window(ctx, row, f"{base}/contact{j}/active:active")
+        gam.append(np.where(act > 0.5, sgn * g, -np.inf))
+        j += 1
+    if not gam:
+        raise CaseError(f"check {row['id']}: no contact point series under {base} "
+                        f"(expected {base}/contact1/geometry, docs/output.md)")
+    mean_max = float(np.mean(np.max(np.vstack(gam), axis=0)))
+    thr = float(row["threshold"])
+    ctx.check(row["id"], mean_max > thr, mean_max, f"> {thr:g}", "rad",
+              f"window mean of the largest active contact angle; {row['justification']}")
+
+
+def _kind_case_difference(ctx, row, forces: bool):
+    other = ctx.other_results("tgv_profile_fastsim")
+    thr = float(row["threshold"])
+    items = [(k, s) for k in range(1, 5) for s in (("left", "right") if forces else ("",))]
+    worst, ok_all, parts = 0.0, True, []
+    for k, side in items:
+        ch = row["channel"].format(k=k, side=side)
+        _, a = _window(ctx, row, ch)
+        _, b = _window(ctx, row, ch, other)
+        ma, mb = float(np.mean(a)), float(np.mean(b))
+        d = abs(ma - mb)
+        if forces:
+            allowed = max(thr * max(abs(ma), abs(mb)), 2000.0)
+        else:
+            allowed = max(thr, 0.10 * abs(mb))
+        ok_all &= d <= allowed
+        worst = max(worst, d / allowed)
+        parts.append(f"ws{k}{' ' + side if side else ''}: {ma:.4g} vs {mb:.4g}")
+    ctx.check(row["id"], ok_all, worst, "<= 1 (difference / allowed)", "1",
+              "Polach vs FASTSIM window means: " + "; ".join(parts) + f". {row['justification']}")
+
+
+def _kind_critical_speed(ctx, row, above: bool):
+    if "critical_speed" not in ctx.cache:
+        ctx.cache["critical_speed"] = critical_speed_bisection(ctx, row)
+    vc = ctx.cache["critical_speed"]
+    thr = float(row["threshold"])
+    ctx.check(row["id"], vc > thr if above else vc < thr, vc, f"{'>' if above else '<'} {thr:g}", "m/s",
+              row["justification"])
+
+
+CHECK_KINDS: dict[str, Callable] = {
+    "growth_rate_below": lambda c, r: _kind_growth(c, r, False),
+    "growth_rate_above": lambda c, r: _kind_growth(c, r, True),
+    "amplitude_below": lambda c, r: _kind_amplitude(c, r, False),
+    "amplitude_above": lambda c, r: _kind_amplitude(c, r, True),
+    "relative_amplitude_below": lambda c, r: _kind_relative_amplitude(c, r, False),
+    "relative_amplitude_above": lambda c, r: _kind_relative_amplitude(c, r, True),
+    "wavelength_above": lambda c, r: _kind_wavelength(c, r, True),
+    "wavelength_below": lambda c, r: _kind_wavelength(c, r, False),
+    "outward_above": lambda c, r: _kind_outward(c, r, True),
+    "outward_below": lambda c, r: _kind_outward(c, r, False),
+    "outward_less_than": _kind_outward_less,
+    "steadiness_below": _kind_steadiness,
+    "same_mean": _kind_same_mean,
+    "flange_contact_above": _kind_flange_contact,
+    "case_difference_below": lambda c, r: _kind_case_difference(c, r, False),
+    "case_force_difference_below": lambda c, r: _kind_case_difference(c, r, True),
+    "critical_speed_above": lambda c, r: _kind_critical_speed(c, r, True),
+    "critical_speed_below": lambda c, r: _kind_critical_speed(c, r, False),
+}
+
+
+#: Critical-speed search: the bogie straight-track deck at other speeds, shortened runs.
+CRITICAL_SPEED_DECK = "tgv_bogie_straight_20.nml"
+CRITICAL_SPEED_BRACKET = (20.0, 40.0)
+CRITICAL_SPEED_RESOLUTION = 1.0
+CRITICAL_SPEED_T_END = 8.0
+
+
+def critical_speed_bisection(ctx: Context, row: dict) -> float:
+    """Bisection on the sign of the growth rate of wheelset 1's lateral motion between the
+    bracket speeds; returns the midpoint of the final bracket. Each probe is a run of the bogie
+    deck with &simulation speed and t_end overridden."""
+    lo, hi = CRITICAL_SPEED_BRACKET
+    rows = []
+
+    def rate_at(v: float) -> float:
+        res = ctx.run_variant(f"v{v:.3f}", f"&simulation speed = {v:.6g}, t_end = {CRITICAL_SPEED_T_END:g} /")
+        with res:
+            t = ctx.time(res)
+            y = ctx.get(row["channel"], res)
+            m = window_mask(t, float(row["t_from"]), float(row["t_to"]))
+            rate, npk = growth_rate(t[m], y[m])
+        rows.append([f"{v:.3f}", f"{rate:.4g}", npk, "growth" if rate > 0 else "decay"])
+        return rate
+
+    if rate_at(lo) >= 0:
+        ctx.result.tables.append(Table("Critical speed search", ["speed m/s", "growth rate 1/s", "peaks", ""], rows))
+        return lo
+    if rate_at(hi) <= 0:
+        ctx.result.tables.append(Table("Critical speed search", ["speed m/s", "growth rate 1/s", "peaks", ""], rows))
+        return hi
+    while hi - lo > CRITICAL_SPEED_RESOLUTION:
+        mid = 0.5 * (lo + hi)
+        if rate_at(mid) > 0:
+            hi = mid
+        else:
+            lo = mid
+    vc = 0.5 * (lo + hi)
+    ctx.result.tables.append(Table(f"Critical speed search: {vc:.2f} m/s (bracket {lo:.2f}-{hi:.2f} m/s)",
+                                   ["speed m/s", "growth rate 1/s", "peaks", ""], rows))
+    return vc
+
+
+def evaluate_tgv(ctx: Context) -> None:
+    rows = [r for r in load_tgv_checks() if r["case"] == ctx.case.name]
+    if not rows:
+        raise CaseError(f"validation/tgv_checks.csv has no check for case {ctx.case.name}")
+    for row in rows:
+        kind = CHECK_KINDS.get(row["kind"])
+        if kind is None:
+            raise CaseError(f"tgv_checks.csv: unknown kind {row['kind']!r} (check {row['id']})")
+        try:
+            kind(ctx, row)
+        except CaseError as exc:
+            ctx.check(row["id"], False, None, "", "", f"not evaluated: {exc}")
+    if not ctx.case.run:
+        return
+    t = ctx.time()
+    nws = sum(1 for k in range(1, 5) if f"bodies/ws{k}/position_track" in ctx.r)
+    if nws:
+        ctx.plot("Lateral displacement of the wheelsets", [(f"ws{k}", t, ctx.get(f"bodies/ws{k}/position_track:y"))
+                                                          for k in range(1, nws + 1)], "y [mm]", 1e3)
+        ctx.plot("Yaw angle of the wheelsets", [(f"ws{k}", t, ctx.get(f"bodies/ws{k}/position_track:yaw"))
+                                                for k in range(1, nws + 1)], "yaw [mrad]", 1e3)
+    if "wheelsets/w1/left/force_track" in ctx.r:
+        ctx.plot("Lateral wheel forces of wheelset 1", [(f"w1 {s}", t, ctx.get(f"wheelsets/w1/{s}/force_track:fy"))
+                                                        for s in ("left", "right")], "force [kN]", 1e-3)
+
+
+_TGV_BASE = ("bodies/ws1/position_track:y", "bodies/ws1/position_track:yaw", "bodies/ws2/position_track:y")
+
+CASES: dict[str, Case] = {c.name: c for c in [
+    Case("manchester_v1_tc1", "manchester_v1_tc1.nml", "Manchester Benchmark Vehicle 1, Track Case 1",
+         "Quasi-static curving in R 150 m with 100 mm cant at 4.4 m/s: wheelset lateral shift and yaw, "
+         "wheel forces against the five packages of thesis tables 5.9-5.11.", evaluate_manchester,
+         baseline_channels=("bodies/ws1/position_track:y", "bodies/ws1/position_track:yaw",
+                            "wheelsets/w1/left/force_track:fy", "wheelsets/w1/left/force_track:fz")),
+    Case("tgv_wheelset", "tgv_wheelset.nml", "TGV 001 single wheelset, straight, 20 m/s",
+         "Knife-edge wheelset on primary springs to the track frame: the 1 mm disturbance decays.",
+         evaluate_tgv, baseline_channels=_TGV_BASE[:2]),
+    Case("tgv_bogie_straight_20", "tgv_bogie_straight_20.nml", "TGV 001 bogie, straight, 20 m/s",
+         "Thesis 5.3.4.1, figs. 5.16-5.17: stable, the 1 mm offset decays.", evaluate_tgv,
+         baseline_channels=_TGV_BASE),
+    Case("tgv_bogie_straight_40", "tgv_bogie_straight_40.nml", "TGV 001 bogie, straight, 40 m/s",
+         "Thesis fig. 5.18: hunting grows; wavelength between the wheelset and rigid-bogie Klingel values.",
+         evaluate_tgv, baseline_channels=_TGV_BASE),
+    Case("tgv_bogie_critical_speed", "tgv_bogie_straight_20.nml", "TGV 001 bogie, critical speed",
+         "Bisection between 20 and 40 m/s on decay vs growth of the 1 mm disturbance (8 s runs).",
+         evaluate_tgv, run=False),
+    Case("tgv_bogie_curve", "tgv_bogie_curve.nml", "TGV 001 bogie, transition into R 1000 m, 20 m/s",
+         "Thesis 5.3.4.2, figs. 5.20-5.22: wheelsets move outward, the trailing one less; settle in the curve.",
+         evaluate_tgv, baseline_channels=_TGV_BASE),
+    Case("tgv_vehicle_straight", "tgv_vehicle_straight.nml", "TGV 001 vehicle (42 DOF), straight, 20 m/s",
+         "Thesis 5.3.4.3: the complete vehicle is stable.", evaluate_tgv, baseline_channels=_TGV_BASE),
+    Case("tgv_vehicle_curve", "tgv_vehicle_curve.nml", "TGV 001 vehicle (42 DOF), transition into R 1000 m",
+         "Thesis 5.3.4.4, figs. 5.24-5.27: wheelsets 1/3 and 2/4 alike, trailing wheelsets shifted less.",
+         evaluate_tgv, baseline_channels=_TGV_BASE),
+    Case("tgv_profile_fastsim", "tgv_profile_fastsim.nml", "TGV 001 vehicle, S1002/UIC60, FASTSIM, 25.6 m/s",
+         "Thesis 5.5, figs. 5.52-5.64: flange-limited lateral shift of the leading wheelsets.",
+         evaluate_tgv, baseline_channels=_TGV_BASE),
+    Case("tgv_profile_polach", "tgv_profile_polach.nml", "TGV 001 vehicle, S1002/UIC60, Polach, 25.6 m/s",
+         "Thesis 5.6, figs. 5.65-5.70: Polach close to FASTSIM.", evaluate_tgv,
+         needs=("tgv_profile_fastsim",), baseline_channels=_TGV_BASE),
+]}
+
+
+# ------------------------------------------------------------------------------------------
+# case execution
+
+
+def _attach_band_checks(ctx: Context) -> None:
+    """Reference curves (validation/curves/<case>/*.csv) and the frozen baseline."""
+    files = sorted((VALIDATION / "curves" / ctx.case.name).glob("*.csv"))
+    base = VALIDATION / "baselines" / f"{ctx.case.name}.csv"
+    sources = [("reference curve", f) for f in files] + ([("baseline", base)] if base.exists() else [])
+    t = ctx.time()
+    for kind, f in sources:
+        for ch, (tr, v, lo, hi) in read_band_csv(f).items():
+            try:
+                y = ctx.get(ch)
+            except CaseError as exc:
+                ctx.check(f"{kind} {f.name}: {ch}", False, None, "", "", str(exc))
+                continue
+            ok, worst, tw, n = compare_band_curve(t, y, tr, lo, hi)
+            ctx.check(f"{kind} {f.name}: {ch}", ok, worst, "0 (inside the band)", "",
+                      f"largest excursion outside the band at t = {tw:.3f} s over {n} points")
+            ctx.plot(f"{ch} against {kind} {f.name}", [("raildyn", t, y)], ch, 1.0,
+                     bands=[(kind, tr, lo, hi)])
+
+
+def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | None = None,
+             reuse: bool = False, others: dict[str, Path] | None = None) -> CaseResult:
+    """Run (or reuse) one case and evaluate it. Never raises for physics or run problems:
+    they are reported in the CaseResult (``error`` and failed checks)."""
+    case = CASES[name]
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    res = CaseResult(name, case.title, case.description, f"inputs/{case.deck}")
+    try:
+        res.assumptions = deck_assumptions(case.deck_path)
+        res.deck_sha256 = deck_sha256(case.deck_path)
+    except OSError as exc:
+        res.error = f"deck {case.deck_path}: {exc}"
+        return res
+    others = dict(others or {})
+    results_path = out_dir / f"{name}.h5"
+    try:
+        for dep in case.needs:
+            p = others.get(dep) or out_dir / f"{dep}.h5"
+            if not p.exists():
+                run_deck(CASES[dep].deck_path, p, exe)
+            others[dep] = p
+        r = None
+        if case.run:
+            info = run_deck(case.deck_path, results_path, exe, reuse=reuse)
+            res.results_path = os.fspath(info.results)
+            res.run_wall_time = None if info.reused else info.wall_time
+            r = Results(info.results)
+        try:
+            if r is not None:
+                meta = r.metadata
+                res.status = str(meta.get("status"))
+                res.raildyn_version = str(meta.get("raildyn_version") or "")
+                if info.reused:
+                    wt = meta.get("wall_time")
+                    res.run_wall_time = float(wt) if wt is not None else None
+                    res.notes.append("results reused from an earlier run (--reuse)")
+                if res.status != "completed":
+                    res.notes.append(f"run status: {res.status}")
+            else:
+                res.status = "variants only"
+            ctx = Context(case, res, r, out_dir, exe, reuse, others)
+            case.evaluate(ctx)
+            if r is not None:
+                _attach_band_checks(ctx)
+        finally:
+            if r is not None:
+                r.close()
+    except CaseError as exc:
+        res.error = str(exc)
+    except (KeyError, ValueError, OSError) as exc:
+        res.error = f"{type(exc).__name__}: {exc}"
+    return res
+
+
+def run_cases(names: Sequence[str], out_dir: str | os.PathLike, exe: str | os.PathLike | None = None,
+              reuse: bool = False) -> list[CaseResult]:
+    out_dir = Path(out_dir)
+    done: dict[str, Path] = {}
+    results = []
+    # dependencies first
+    order = []
+    for n in names:
+        for d in CASES[n].needs:
+            if d not in order:
+                order.append(d)
+        if n not in order:
+            order.append(n)
+    for n in order:
+        r = run_case(n, out_dir, exe, reuse, done)
+        if r.results_path:
+            done[n] = Path(r.results_path)
+        if n in names:
+            results.append(r)
+    return results
+
+
+def _git_commit() -> str:
+    try:
+        return subprocess.run(["git", "-C", os.fspath(REPO), "rev-parse", "--short", "HEAD"],
+                              capture_output=True, text=True, timeout=10).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return ""
+
+
+# ------------------------------------------------------------------------------------------
+# command line
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] == "list":
+        for c in CASES.values():
+            print(f"{c.name:28s} inputs/{c.deck:28s} {c.title}")
+        return 0
+    if argv and argv[0] == "freeze":
+        p = argparse.ArgumentParser(prog="python -m raildyn.validation freeze",
+                                    description="Freeze an approved run of a case as a regression baseline.")
+        p.add_argument("case", choices=sorted(CASES))
+        p.add_argument("--out", default="validation-out", help="directory of the case results (default %(default)s)")
+        p.add_argument("--results", help="results file (default OUT/CASE.h5)")
+        p.add_argument("--channels", nargs="+", help="'series:component' columns (default: the case's list)")
+        p.add_argument("--rel", type=float, default=0.02, help="band half-width, fraction of the channel range")
+        p.add_argument("--abs", type=float, default=1e-6, dest="abs_tol", help="band half-width added [SI]")
+        p.add_argument("--every", type=int, default=1, help="keep every n-th output row")
+        a = p.parse_args(argv[1:])
+        src = Path(a.results or Path(a.out) / f"{a.case}.h5")
+        if not src.exists():
+            print(f"freeze: no results {src}; run the case first", file=sys.stderr)
+            return 1
+        chans = a.channels or list(CASES[a.case].baseline_channels)
+        if not chans:
+            print("freeze: no channels given and the case has no default list", file=sys.stderr)
+            return 1
+        path = freeze_baseline(a.case, src, chans, rel=a.rel, abs_tol=a.abs_tol, every=a.every)
+        print(f"wrote {path}")
+        return 0
+    if argv and argv[0] == "run":
+        argv = argv[1:]
+    p = argparse.ArgumentParser(prog="python -m raildyn.validation",
+                                description="Run the validation cases and write the HTML report.")
+    p.add_argument("--cases", nargs="+", choices=sorted(CASES), help="cases to run (default: all)")
+    p.add_argument("--reuse", action="store_true", help="reuse existing results files in OUT")
+    p.add_argument("--out", default="validation-out", help="output directory (default %(default)s)")
+    p.add_argument("--exe", help="raildyn executable (default: $RAILDYN_BUILD_DIR/bin/raildyn or build/bin/raildyn)")
+    p.add_argument("--report", help="HTML report path (default OUT/validation_report.html)")
+    a = p.parse_args(argv)
+    names = a.cases or list(CASES)
+    t0 = time.perf_counter()
+    results = run_cases(names, a.out, a.exe, a.reuse)
+    from .report import write_report
+    report = Path(a.report or Path(a.out) / "validation_report.html")
+    write_report(results, report, git_commit=_git_commit(), total_time=time.perf_counter() - t0)
+    for r in results:
+        print(r.summary())
+    print(f"report: {report}")
+    return 0 if all(r.passed for r in results) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
