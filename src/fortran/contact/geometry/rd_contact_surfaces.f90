@@ -56,6 +56,7 @@ module rd_contact_surfaces
     real(wp), allocatable :: kappa(:)   !< smoothed profile curvature [1/m], + convex
     real(wp) :: y_gauge_point = 0       !< Y of the gauge point (= gauge / 2)
     real(wp) :: u_gauge_point = 0       !< its rail profile coordinate
+    integer :: coarse_stride = 1        !< strips per coarse step of the search (1.6 mm apart)
   end type rail_surface_t
 
 contains
@@ -172,6 +173,7 @@ contains
     rail%z = zr(ilo:ihi) - ztop
     rail%kappa = ks(ilo:ihi)
     rail%y_gauge_point = 0.5_wp * placement%gauge
+    rail%coarse_stride = max(1, min(8, int(1.6e-3_wp / options%rail_spacing + 1.0e-9_wp)))
     rail%u_gauge_point = ugp
     allocate (rail%ny(m), rail%nz(m))
     do i = 1, m

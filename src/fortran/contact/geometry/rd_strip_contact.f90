@@ -19,6 +19,7 @@ module rd_strip_contact
   public :: strip_wheel_contact
 
   real(wp), parameter :: flange_angle = 0.3_wp   !< |contact angle| from which a patch is a flange patch
+  real(wp), parameter :: coarse_gap = 5.0e-4_wp  !< strips farther than this from touching are interpolated [m]
   real(wp), parameter :: virtual_eps = 0.60_wp   !< virtual penetration factor (Kik-Piotrowski: 0.55; see theory doc)
 
 contains
@@ -34,15 +35,12 @@ contains
     !> search every cone a line can reach instead of hill climbing (reference for tests)
     logical, intent(in), optional :: exhaustive
     logical :: full_search
-    integer :: jprev, step
-    real(wp) :: pyb
+    integer :: jprev
     real(wp) :: delta(rail%n), tline(rail%n), pw(3, rail%n)
     integer :: jseg(rail%n)
     logical :: pos(rail%n)
-    real(wp) :: bt(3, 3), d(3), a, cp, sp, cs, ss, rel(3), p0(3), proj, t0, rho, py0, pz0, px0
-    real(wp) :: half, best, dep, tau, taub, ext, ylo, yhi, k
-    integer :: i, ilo, ihi, j, jlo, jhi, jb, i1, i2, kmax, np, iw
-    logical :: found
+    real(wp) :: bt(3, 3), d(3), a, cp, sp, cs, ss, ext, ylo, yhi, w, dep
+    integer :: i, ilo, ihi, i1, i2, kmax, np, iw
 
     full_search = .false.
     if (present(exhaustive)) full_search = exhaustive
@@ -65,16 +63,109 @@ contains
 
     delta = -huge(1.0_wp)
     tline = 0; pw = 0; jseg = 1
+    if (full_search .or. ihi - ilo < 4 * rail%coarse_stride) then
+      do i = ilo, ihi
+        call evaluate_line(i, delta, tline, pw, jseg, jprev)
+      end do
+    else
+      ! Coarse-to-fine: every rail%coarse_stride-th strip first; the strips between two coarse
+      ! ones are evaluated only if one of them is within coarse_gap of touching, otherwise
+      ! interpolated (they are then far from contact: the relative curvature of wheel and
+      ! rail, below 1/3 mm^-1, cannot raise a bump of coarse_gap between strips at most
+      ! 1.6 mm apart: rail%coarse_stride).
+      i = ilo
+      do
+        call evaluate_line(i, delta, tline, pw, jseg, jprev)
+        if (i == ihi) exit
+        i = min(i + rail%coarse_stride, ihi)
+      end do
+      i1 = ilo
+      do while (i1 < ihi)
+        i2 = min(i1 + rail%coarse_stride, ihi)
+        if (max(delta(i1), delta(i2)) > -coarse_gap) then
+          do i = i1 + 1, i2 - 1
+            call evaluate_line(i, delta, tline, pw, jseg, jprev)
+          end do
+        else
+          do i = i1 + 1, i2 - 1
+            w = real(i - i1, wp) / (i2 - i1)
+            delta(i) = delta(i1) + w * (delta(i2) - delta(i1))
+            tline(i) = tline(i1) + w * (tline(i2) - tline(i1))
+            pw(:, i) = pw(:, i1) + w * (pw(:, i2) - pw(:, i1))
+            jseg(i) = jseg(i1)
+          end do
+        end if
+        i1 = i2
+      end do
+    end if
+
+    res%n_patches = 0
+    res%max_penetration = -huge(1.0_wp)
+    if (ihi < ilo) return
+    ! max over the refined local maxima (not the refinement of the global discrete max):
+    ! stays continuous when the deepest point switches between two separate bumps.
+    ! A local maximum whose refined peak is positive opens a patch even if no strip is
+    ! positive yet, so that patches appear with zero penetration.
+    pos(ilo:ihi) = delta(ilo:ihi) > 0
     do i = ilo, ihi
-      rel = [0.0_wp, rail%y(i) - y, rail%z(i) - z]
-      p0 = matmul(bt, rel)
+      if (i > ilo) then
+        if (delta(i) < delta(i - 1)) cycle
+      end if
+      if (i < ihi) then
+        if (delta(i) <= delta(i + 1)) cycle
+      end if
+      dep = refined_peak(delta, i, ilo, ihi)
+      res%max_penetration = max(res%max_penetration, dep)
+      if (dep > 0) pos(i) = .true.
+    end do
+
+    ! patches: runs of penetrating strips
+    i = ilo
+    np = 0
+    do while (i <= ihi)
+      if (.not. pos(i)) then
+        i = i + 1
+        cycle
+      end if
+      i1 = i
+      do while (i < ihi)
+        if (.not. pos(i + 1)) exit
+        i = i + 1
+      end do
+      i2 = i
+      i = i + 1
+      kmax = i1 - 1 + maxloc(delta(i1:i2), dim=1)
+      if (np < MAX_PATCHES) then
+        np = np + 1
+        iw = np
+      else                                    ! keep the MAX_PATCHES deepest
+        iw = minloc(res%patch(:)%penetration, dim=1)
+        if (res%patch(iw)%penetration >= delta(kmax)) cycle
+      end if
+      call fill_patch(res%patch(iw), i1, i2, kmax)
+    end do
+    res%n_patches = np
+
+  contains
+
+    !> Deepest penetration of rail line i into the wheel (strip i).
+    pure subroutine evaluate_line(i, delta, tline, pw, jseg, jprev)
+      integer, intent(in) :: i
+      real(wp), intent(inout) :: delta(:), tline(:), pw(:, :)
+      integer, intent(inout) :: jseg(:), jprev
+      real(wp) :: rel(3), p0(3), proj, t0, rho, py0, pz0, px0, half, best, dep, tau, taub, k, pyb
+      integer :: j, jlo, jhi, jb, step
+      logical :: found
+      rel(2) = rail%y(i) - y
+      rel(3) = rail%z(i) - z
+      p0 = bt(:, 2) * rel(2) + bt(:, 3) * rel(3)     ! B^T rel, rel(1) = 0
       proj = p0(1) * d(1) + p0(3) * d(3)
       t0 = -proj / a**2                   ! closest approach of the line to the axle
       px0 = p0(1) + t0 * d(1)
       pz0 = p0(3) + t0 * d(3)
       py0 = p0(2) + t0 * d(2)
-      rho = hypot(px0, pz0)
-      if (pz0 >= 0) cycle                 ! above the axle: not the running surface
+      rho = sqrt(px0**2 + pz0**2)
+      if (pz0 >= 0) return                ! above the axle: not the running surface
       jprev = hunt(wheel%y, py0, jprev)       ! lines come in lateral order: O(1) search
       best = -huge(1.0_wp); jb = jprev; taub = 0
       if (rho < wheel%r_max .and. py0 > wheel%y(1) - 0.2_wp .and. py0 < wheel%y(wheel%n) + 0.2_wp) then
@@ -128,56 +219,7 @@ contains
       tline(i) = t0 + taub
       pw(:, i) = p0 + tline(i) * d
       jseg(i) = jb
-    end do
-
-    res%n_patches = 0
-    res%max_penetration = -huge(1.0_wp)
-    if (ihi < ilo) return
-    ! max over the refined local maxima (not the refinement of the global discrete max):
-    ! stays continuous when the deepest point switches between two separate bumps.
-    ! A local maximum whose refined peak is positive opens a patch even if no strip is
-    ! positive yet, so that patches appear with zero penetration.
-    pos(ilo:ihi) = delta(ilo:ihi) > 0
-    do i = ilo, ihi
-      if (i > ilo) then
-        if (delta(i) < delta(i - 1)) cycle
-      end if
-      if (i < ihi) then
-        if (delta(i) <= delta(i + 1)) cycle
-      end if
-      dep = refined_peak(delta, i, ilo, ihi)
-      res%max_penetration = max(res%max_penetration, dep)
-      if (dep > 0) pos(i) = .true.
-    end do
-
-    ! patches: runs of penetrating strips
-    i = ilo
-    np = 0
-    do while (i <= ihi)
-      if (.not. pos(i)) then
-        i = i + 1
-        cycle
-      end if
-      i1 = i
-      do while (i < ihi)
-        if (.not. pos(i + 1)) exit
-        i = i + 1
-      end do
-      i2 = i
-      i = i + 1
-      kmax = i1 - 1 + maxloc(delta(i1:i2), dim=1)
-      if (np < MAX_PATCHES) then
-        np = np + 1
-        iw = np
-      else                                    ! keep the MAX_PATCHES deepest
-        iw = minloc(res%patch(:)%penetration, dim=1)
-        if (res%patch(iw)%penetration >= delta(kmax)) cycle
-      end if
-      call fill_patch(res%patch(iw), i1, i2, kmax)
-    end do
-    res%n_patches = np
-
-  contains
+    end subroutine evaluate_line
 
     pure subroutine fill_patch(p, i1, i2, kc)
       type(contact_patch_t), intent(out) :: p
