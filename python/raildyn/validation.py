@@ -94,7 +94,7 @@ class CaseResult:
     assumptions: list[str] = field(default_factory=list)
     checks: list[Check] = field(default_factory=list)
     tables: list[Table] = field(default_factory=list)
-    plots: list[tuple[str, bytes]] = field(default_factory=list)   #: (title, PNG bytes)
+    plots: list[tuple[str, bytes]] = field(default_factory=list, repr=False)   #: (title, PNG)
     notes: list[str] = field(default_factory=list)
     error: str = ""                  #: why the case could not be evaluated
 
@@ -959,6 +959,30 @@ CASES: dict[str, Case] = {c.name: c for c in [
 # case execution
 
 
+_WHEELSET_NAME = re.compile(r"&wheelset\s+name\s*=\s*(['\"])(.*?)\1", re.IGNORECASE)
+
+
+def deck_wheelsets(deck: str | os.PathLike) -> list[str]:
+    """Names of the &wheelset groups of a deck and its includes (an override repeats a name)."""
+    names: list[str] = []
+    for p in deck_files(deck):
+        for line in p.read_text().splitlines():
+            for m in _WHEELSET_NAME.finditer(line.split("!", 1)[0]):
+                if m.group(2) not in names:
+                    names.append(m.group(2))
+    return names
+
+
+def _check_contact_outputs(ctx: Context) -> None:
+    """Every wheelset of the deck must have written its wheel forces: a scene that runs the
+    bodies without wheel-rail contact must not pass a validation case by accident."""
+    missing = [w for w in deck_wheelsets(ctx.case.deck_path)
+               if f"wheelsets/{w}/left/force_track" not in ctx.r]
+    ctx.check("wheel-rail contact outputs present", not missing, None, "all wheelsets", "",
+              "" if not missing else "no wheelsets/<name>/left/force_track for " + ", ".join(missing) +
+              ": the scene ran without wheel-rail contact for these wheelsets (contact not wired)")
+
+
 def _attach_band_checks(ctx: Context) -> None:
     """Reference curves (validation/curves/<case>/*.csv) and the frozen baseline."""
     files = sorted((VALIDATION / "curves" / ctx.case.name).glob("*.csv"))
@@ -1021,6 +1045,8 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
             else:
                 res.status = "variants only"
             ctx = Context(case, res, r, out_dir, exe, reuse, others)
+            if r is not None:
+                _check_contact_outputs(ctx)
             case.evaluate(ctx)
             if r is not None:
                 _attach_band_checks(ctx)

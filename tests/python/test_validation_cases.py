@@ -1,0 +1,37 @@
+"""One test per validation case (python/raildyn/validation.py, docs/validation.md): run the
+scene with the runner and apply the case's comparison and acceptance rule, so that CI fails
+when the physics regresses. Markers: `validation` plus the case name (pytest.ini).
+
+Results go to $RAILDYN_VALIDATION_OUT if set (kept, e.g. for the HTML report or `--reuse`),
+else to a temporary directory of the session. A case that cannot run (executable missing,
+scene not able to build bodies or wheelsets, run failure) FAILS with the harness' message;
+nothing is skipped."""
+import os
+from pathlib import Path
+
+import pytest
+
+from raildyn import validation as V
+
+
+@pytest.fixture(scope="session")
+def validation_out(tmp_path_factory, build_dir):
+    os.environ.setdefault("RAILDYN_BUILD_DIR", str(build_dir))
+    out = os.environ.get("RAILDYN_VALIDATION_OUT")
+    return Path(out) if out else tmp_path_factory.mktemp("validation")
+
+
+@pytest.fixture(scope="session")
+def finished():
+    """Results of cases already run in this session (Polach compares with FASTSIM)."""
+    return {}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=[pytest.mark.validation, getattr(pytest.mark, n)])
+                                  for n in V.CASES])
+def test_validation_case(name, validation_out, finished):
+    res = V.run_case(name, validation_out, others=finished)
+    if res.results_path:
+        finished[name] = Path(res.results_path)
+    passed = res.passed        # (the CaseResult's repr would carry the plots)
+    assert passed, res.summary()

@@ -1,0 +1,368 @@
+"""The validation harness' logic on made-up numbers and synthetic results files (no simulation):
+the Manchester acceptance rule, the transcription of thesis tables 5.9-5.11 against force
+balances, envelope growth rates and wavelengths against closed forms, band curves and baselines,
+deck assumptions, and whole cases evaluated end to end on synthetic results (pass and fail)."""
+import math
+import re
+
+import numpy as np
+import pytest
+
+from raildyn import validation as V
+from raildyn.report import render_report
+
+pytestmark = pytest.mark.validation_rules
+
+
+# ---------------------------------------------------------------- acceptance rule
+
+def test_band_verdict_closed_form():
+    pk = [1.0, 2.0, -3.0, 4.0, 5.0]            # magnitudes 1..5: median 3, band [0.7, 5.3]
+    v = V.band_verdict(5.3, pk)
+    assert v.within and v.off_percent == pytest.approx(100 * 0.3 / 3)
+    assert (v.band_lower, v.band_upper) == pytest.approx((0.7, 5.3))
+    assert not V.band_verdict(5.31, pk).within
+    assert V.band_verdict(6.0, pk).off_percent == pytest.approx(100 / 3)
+    assert V.band_verdict(-2.5, pk).within and V.band_verdict(-2.5, pk).off_percent == 0.0
+    low = V.band_verdict(0.5, pk)
+    assert not low.within and low.off_percent == pytest.approx(100 * 0.5 / 3)
+    with pytest.raises(ValueError):
+        V.band_verdict(float("nan"), pk)
+    with pytest.raises(ValueError):
+        V.band_verdict(1.0, [0.0, 0.0, 0.0])
+
+
+def _verdicts(values, packages=(9.0, 9.5, 10.0, 10.5, 11.0)):
+    return [V.band_verdict(x, packages) for x in values]
+
+
+def test_acceptance_rule_fraction_and_worst_entry():
+    # band [8, 12]; 'off by' relative to [9, 11] in % of 10
+    ok = V.manchester_acceptance(_verdicts([10.0] * 9 + [12.5]))      # 1 of 10 out, off 15%
+    assert ok.passed and ok.fraction_within == pytest.approx(0.9)
+    assert ok.max_off_percent == pytest.approx(15.0)
+    two_out = V.manchester_acceptance(_verdicts([10.0] * 8 + [12.5, 7.5]))
+    assert not two_out.passed and two_out.fraction_within == pytest.approx(0.8)
+    far = V.manchester_acceptance(_verdicts([10.0] * 19 + [14.2]))     # 95% in, one off 32%
+    assert far.fraction_within == pytest.approx(0.95) and not far.passed
+    assert far.max_off_percent == pytest.approx(32.0)
+    edge = V.manchester_acceptance(_verdicts([10.0] * 19 + [13.9]))    # off 29%
+    assert edge.passed
+    assert not V.manchester_acceptance([]).passed
+
+
+# ---------------------------------------------------------------- reference tables
+
+M_V1 = 44482.0          # manchester_vehicle1.md: total mass
+G = 9.80665
+
+
+def _signed(entries, package):
+    """Package values with the consensus sign of each entry (removes the sign slips)."""
+    out = {}
+    for e in entries:
+        out[(e.quantity, e.wheelset, e.side)] = abs(e.values[package]) * e.consensus_sign() * \
+            V.UNIT_SCALE[e.unit]
+    return out
+
+
+def test_tables_transcription_shape():
+    entries = V.load_package_table()
+    assert len(entries) == 32
+    counts = {}
+    for e in entries:
+        counts[e.quantity] = counts.get(e.quantity, 0) + 1
+    assert counts == {"lateral_shift": 4, "yaw": 4, "longitudinal_force": 8, "lateral_force": 8,
+                      "vertical_force": 8}
+    e = next(x for x in entries if x.key == "lateral_force ws4 right")
+    assert e.printed["GENSYS"] == -20.195 and e.values["GENSYS"] == -10.195 and e.corrections
+
+
+@pytest.mark.parametrize("package", V.PACKAGES)
+def test_tables_balance_the_vehicle(package):
+    """Quasi-static equilibrium of the whole vehicle in the canted curve, an independent check
+    of the transcription: vertical forces carry the weight, lateral forces balance the cant
+    excess M (g sin(phi) - V^2/R cos(phi)), longitudinal forces cancel (constant speed)."""
+    vals = _signed(V.load_package_table(), package)
+    phi = math.asin(0.1 / 1.5)
+    q = sum(v for k, v in vals.items() if k[0] == "vertical_force")
+    y = sum(v for k, v in vals.items() if k[0] == "lateral_force")
+    x = sum(v for k, v in vals.items() if k[0] == "longitudinal_force")
+    assert abs(q) == pytest.approx(M_V1 * G, rel=0.005)
+    assert abs(y) == pytest.approx(M_V1 * (G * math.sin(phi) - 4.4 ** 2 / 150 * math.cos(phi)), rel=0.03)
+    assert abs(x) < 3000.0
+
+
+def test_gensys_correction_is_needed():
+    """As printed, GENSYS's lateral forces do not balance: the balance test can fail."""
+    vals = _signed(V.load_package_table(apply_corrections=False), "GENSYS")
+    y = sum(v for k, v in vals.items() if k[0] == "lateral_force")
+    phi = math.asin(0.1 / 1.5)
+    expected = M_V1 * (G * math.sin(phi) - 4.4 ** 2 / 150 * math.cos(phi))
+    assert abs(abs(y) - expected) > 0.3 * expected
+
+
+def test_correction_must_match_printed_value(tmp_path):
+    bad = tmp_path / "corr.csv"
+    bad.write_text("quantity,wheelset,side,package,printed,corrected,evidence\n"
+                   "lateral_force,4,right,GENSYS,-20.0,-10.195,x\n")
+    with pytest.raises(ValueError, match="expects printed"):
+        V.load_package_table(corrections=bad)
+
+
+# ---------------------------------------------------------------- signal analysis
+
+@pytest.mark.parametrize("sigma", [-0.3, -0.05, 0.2])
+def test_growth_rate_of_exponential_sine(sigma):
+    t = np.linspace(0, 12, 12001)
+    y = 1e-3 * np.exp(sigma * t) * np.sin(2 * np.pi * 1.3 * t + 0.4)
+    rate, npk = V.growth_rate(t, y)
+    assert npk > 20
+    assert rate == pytest.approx(sigma, abs=0.01)
+
+
+def test_growth_rate_overdamped_and_noise_floor():
+    t = np.linspace(0, 5, 501)
+    rate, npk = V.growth_rate(t, 1e-3 * np.exp(-2.0 * t))
+    assert npk == 0 and rate < -1.5
+    # peaks below the floor (motion died out) are ignored
+    y = 1e-3 * np.exp(-1.0 * t) * np.sin(2 * np.pi * 2 * t)
+    tp, ap = V.half_cycle_peaks(t, y, floor=1e-5)
+    assert ap.min() > 1e-5 and tp.max() < 5.0
+
+
+def test_wavelength_against_frequency():
+    t = np.linspace(0, 10, 20001)
+    f, speed = 1.55, 40.0
+    lam = V.oscillation_wavelength(t, np.exp(0.05 * t) * np.sin(2 * np.pi * f * t + 0.3), speed)
+    assert lam == pytest.approx(speed / f, rel=2e-3)
+    with pytest.raises(V.CaseError):
+        V.oscillation_wavelength(t, 1 + t, speed)
+
+
+def test_window_mean():
+    t = np.linspace(0, 10, 101)
+    assert V.window_mean(t, t, 2.0, 4.0) == pytest.approx(3.0)
+    with pytest.raises(V.CaseError, match="fewer than 2"):
+        V.window_mean(t, t, 20.0, 30.0)
+
+
+# ---------------------------------------------------------------- band curves and baselines
+
+def test_reference_curve_band(tmp_path):
+    p = tmp_path / "ref.csv"
+    p.write_text("# made-up curve\n# channel: bodies/ws1/position_track:y\ntime,value,lower,upper\n"
+                 "0,0,-1,1\n1,1,0.5,1.5\n2,2,1.5,2.5\n")
+    (ch, (tr, v, lo, hi)), = V.read_band_csv(p).items()
+    assert ch == "bodies/ws1/position_track:y"
+    t = np.linspace(0, 3, 31)
+    assert V.compare_band_curve(t, t, tr, lo, hi)[0]
+    ok, worst, tw, n = V.compare_band_curve(t, t + 0.7 * (t > 1.5), tr, lo, hi)
+    assert not ok and worst == pytest.approx(0.2) and tw == 2.0 and n == 3
+    p.write_text("# channel: x\ntime,value,lower,upper\n0,0,0.1,1\n")
+    with pytest.raises(ValueError, match="does not contain"):
+        V.read_band_csv(p)
+
+
+def _wheel_forces(series, n, wheelsets):
+    """Zero wheel forces: the harness requires every deck wheelset to have written them."""
+    for k in wheelsets:
+        for side in ("left", "right"):
+            series[f"wheelsets/w{k}/{side}/force_track"] = (np.zeros((n, 3)), "N", "fx fy fz", "f")
+    return series
+
+
+def _tgv_series(t, y):
+    n = len(t)
+    q = np.zeros((n, 6))
+    q[:, 1] = y
+    q[:, 2] = 0.45
+    return q
+
+
+def test_freeze_and_compare_baseline(make_results_file, tmp_path):
+    t = np.linspace(0, 2, 201)
+    y = 1e-3 * np.sin(3 * t)
+    q = _tgv_series(t, y)
+    path = make_results_file("run.h5", t, {
+        "bodies/ws1/position_track": (q, "m m m rad rad rad", "x y z yaw roll pitch", "pose")},
+        deck_text="&simulation t_end = 2 /", meta_attrs={"status": "completed"},
+        root_attrs={"raildyn_version": "0.1.0"})
+    out = V.freeze_baseline("demo", path, ["bodies/ws1/position_track:y"], out=tmp_path / "b.csv",
+                            rel=0.01, abs_tol=1e-7)
+    text = out.read_text()
+    assert text.startswith("# Regression baseline") and "raildyn 0.1.0" in text
+    band = V.read_band_csv(out)["bodies/ws1/position_track:y"]
+    assert np.allclose(band[2], y - (0.01 * np.ptp(y) + 1e-7), atol=1e-12)
+    assert V.compare_band_curve(t, y, band[0], band[2], band[3])[0]
+    assert not V.compare_band_curve(t, y * 1.05, band[0], band[2], band[3])[0]
+
+
+# ---------------------------------------------------------------- decks
+
+SCENES = sorted(p.name for p in V.INPUTS.glob("*.nml"))
+
+
+def test_every_case_deck_exists_and_cites_sources():
+    for case in V.CASES.values():
+        files = V.deck_files(case.deck_path)
+        assert files[0].exists()
+        head = files[0].read_text().splitlines()[0]
+        assert head.startswith("!"), f"{case.deck}: header comment expected"
+    assert "default.nml" in SCENES
+    assert [p.name for p in V.deck_files(V.INPUTS / "default.nml")][1] == "manchester_v1_tc1.nml"
+
+
+def test_assumptions_are_collected_with_continuations():
+    a = V.deck_assumptions(V.INPUTS / "tgv_bogie_straight_20.nml")
+    files = {x.split(":", 1)[0] for x in a}
+    assert "inputs/tgv_bogie_straight_20.nml" in files
+    assert "inputs/vehicles/tgv001_bogie.nml" in files and "inputs/tracks/tgv_designed_track.nml" in files
+    wb = next(x for x in a if "wheelbase" in x)
+    assert "3.0 m" in wb and "wheelsets sit at +-1.5 m" in wb      # continuation line joined
+    assert all(not re.search(r"\s!\s", x) for x in a)
+
+
+# ---------------------------------------------------------------- whole cases on synthetic results
+
+def _manchester_file(make_results_file, scale=None):
+    """Results shaped like the scene's, holding the package medians with this deck's signs
+    (right-hand curve: left wheel outer; lateral shift of the leading wheelsets outward = +y)."""
+    t = np.arange(0.0, 22.5 + 1e-9, 0.05)
+    series = {"vehicle/distance": (30.0 + 4.4 * t[:, None], "m", "sigma", "sigma"),
+              "vehicle/speed": (np.full((len(t), 1), 4.4), "m/s", "V", "speed")}
+    forces = {}
+    for e in V.load_package_table():
+        med = float(np.median(e.magnitudes_si()))
+        val = -e.consensus_sign() * med
+        if scale and e.key in scale:
+            val *= scale[e.key]
+        if e.quantity in ("lateral_shift", "yaw"):
+            q = series.setdefault(f"bodies/ws{e.wheelset}/position_track",
+                                  (np.zeros((len(t), 6)), "m m m rad rad rad", "x y z yaw roll pitch", "pose"))[0]
+            q[:, 1 if e.quantity == "lateral_shift" else 3] = val
+        else:
+            f = forces.setdefault((e.wheelset, e.side), np.zeros((len(t), 3)))
+            f[:, {"longitudinal_force": 0, "lateral_force": 1, "vertical_force": 2}[e.quantity]] = val
+    for (k, side), f in forces.items():
+        series[f"wheelsets/w{k}/{side}/force_track"] = (f, "N", "fx fy fz", "wheel force")
+    return t, series
+
+
+def test_manchester_case_end_to_end(make_results_file, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    t, series = _manchester_file(make_results_file)
+    make_results_file("out/manchester_v1_tc1.h5", t, series, meta_attrs={"status": "completed", "wall_time": 1.5},
+                      root_attrs={"raildyn_version": "test"}, deck_text="! synthetic")
+    res = V.run_case("manchester_v1_tc1", out, reuse=True)
+    assert res.error == "" and res.passed, res.summary()
+    chk = {c.name: c for c in res.checks}
+    assert chk["wheel-rail contact outputs present"].passed
+    assert chk["entries inside the widened package band"].value == pytest.approx(1.0)
+    assert chk["largest deviation from the package range"].value == pytest.approx(0.0)
+    assert len(res.tables[0].rows) == 32 and len(res.plots) >= 5
+    assert any("ASSUMPTION" not in a and "right-hand curve" in a for a in res.assumptions)
+    html = render_report([res])
+    assert html.count("data:image/png;base64,") == len(res.plots)
+    assert not re.search(r"(src|href)=['\"](https?:|//)", html), "report must be self-contained"
+
+    # four entries 40% too large: 28/32 = 87.5% inside, worst off 36% of the median -> fail
+    bad = {"lateral_shift ws1": 1.4, "yaw ws3": 1.4, "vertical_force ws2 right": 1.4,
+           "lateral_force ws1 left": 1.4}
+    t, series = _manchester_file(make_results_file, bad)
+    make_results_file("out/manchester_v1_tc1.h5", t, series, meta_attrs={"status": "completed"})
+    res = V.run_case("manchester_v1_tc1", out, reuse=True)
+    assert not res.passed
+    chk = {c.name: c for c in res.checks}
+    inside = chk["entries inside the widened package band"]
+    assert inside.value == pytest.approx(28 / 32) and not inside.passed
+    worst = chk["largest deviation from the package range"]
+    assert not worst.passed and worst.value > 30.0
+
+
+def test_manchester_case_reports_missing_bodies(make_results_file, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    t = np.arange(0.0, 22.5, 0.1)
+    make_results_file("out/manchester_v1_tc1.h5", t, {
+        "vehicle/distance": (30.0 + 4.4 * t[:, None], "m", "sigma", "sigma")},
+        meta_attrs={"status": "completed"})
+    res = V.run_case("manchester_v1_tc1", out, reuse=True)
+    assert not res.passed and "did not build bodies" in res.error
+
+
+def test_manchester_case_window_not_reached(make_results_file, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    t = np.arange(0.0, 10.0, 0.1)
+    make_results_file("out/manchester_v1_tc1.h5", t, {
+        "vehicle/distance": (30.0 + 4.4 * t[:, None], "m", "sigma", "sigma")},
+        meta_attrs={"status": "failed: solver"})
+    res = V.run_case("manchester_v1_tc1", out, reuse=True)
+    assert not res.passed and "quasi-static window" in res.error
+
+
+@pytest.mark.parametrize("sigma,expect", [(-0.6, True), (0.15, False)])
+def test_tgv_straight_case_end_to_end(make_results_file, tmp_path, sigma, expect):
+    """Synthetic bogie response: a decaying oscillation passes the 20 m/s checks, a growing
+    one fails them."""
+    out = tmp_path / "out"
+    out.mkdir()
+    t = np.arange(0.0, 15.0 + 1e-9, 0.005)
+    y = np.where(t > 0.1, 1e-3 * np.exp(sigma * t) * np.sin(2 * np.pi * 0.9 * (t - 0.1)), 0.0)
+    series = {"vehicle/speed": (np.full((len(t), 1), 20.0), "m/s", "V", "speed"),
+              "vehicle/distance": (100 + 20 * t[:, None], "m", "sigma", "sigma"),
+              "bodies/ws1/position_track": (_tgv_series(t, y), "m m m rad rad rad", "x y z yaw roll pitch", "p"),
+              "bodies/ws2/position_track": (_tgv_series(t, 0.8 * y), "m m m rad rad rad", "x y z yaw roll pitch", "p")}
+    _wheel_forces(series, len(t), (1, 2))
+    make_results_file("out/tgv_bogie_straight_20.h5", t, series, meta_attrs={"status": "completed"})
+    res = V.run_case("tgv_bogie_straight_20", out, reuse=True)
+    assert res.error == ""
+    assert res.passed is expect, res.summary()
+    rate = next(c for c in res.checks if c.name == "bogie20_decay_rate")
+    assert rate.value == pytest.approx(sigma, abs=0.02)
+
+
+def test_tgv_curve_case_end_to_end(make_results_file, tmp_path):
+    """Left-hand curve: outward is -y; leading wheelset further out than the trailing one."""
+    out = tmp_path / "out"
+    out.mkdir()
+    t = np.arange(0.0, 20.0 + 1e-9, 0.01)
+    ramp = np.clip((t - 5.0) / 10.0, 0, 1)
+    series = {"vehicle/speed": (np.full((len(t), 1), 20.0), "m/s", "V", "speed"),
+              "bodies/ws1/position_track": (_tgv_series(t, -3e-3 * ramp), "m m m rad rad rad", "x y z yaw roll pitch", "p"),
+              "bodies/ws2/position_track": (_tgv_series(t, -1e-3 * ramp), "m m m rad rad rad", "x y z yaw roll pitch", "p")}
+    _wheel_forces(series, len(t), (1, 2))
+    make_results_file("out/tgv_bogie_curve.h5", t, series, meta_attrs={"status": "completed"})
+    res = V.run_case("tgv_bogie_curve", out, reuse=True)
+    assert res.passed, res.summary()
+    # swap the wheelsets: the trailing one now shifts more -> that check fails
+    series["bodies/ws1/position_track"], series["bodies/ws2/position_track"] = \
+        series["bodies/ws2/position_track"], series["bodies/ws1/position_track"]
+    make_results_file("out/tgv_bogie_curve.h5", t, series, meta_attrs={"status": "completed"})
+    res = V.run_case("tgv_bogie_curve", out, reuse=True)
+    failed = [c.name for c in res.checks if not c.passed]
+    assert failed == ["bogie_curve_trailing_less"]
+
+
+def test_case_without_contact_outputs_fails(make_results_file, tmp_path):
+    """Bodies moving without wheel-rail contact must not pass, whatever the motion."""
+    out = tmp_path / "out"
+    out.mkdir()
+    t = np.arange(0.0, 20.0 + 1e-9, 0.01)
+    ramp = np.clip((t - 5.0) / 10.0, 0, 1)
+    series = {"bodies/ws1/position_track": (_tgv_series(t, -3e-3 * ramp), "m m m rad rad rad", "x y z yaw roll pitch", "p"),
+              "bodies/ws2/position_track": (_tgv_series(t, -1e-3 * ramp), "m m m rad rad rad", "x y z yaw roll pitch", "p")}
+    make_results_file("out/tgv_bogie_curve.h5", t, series, meta_attrs={"status": "completed"})
+    res = V.run_case("tgv_bogie_curve", out, reuse=True)
+    assert [c.name for c in res.checks if not c.passed] == ["wheel-rail contact outputs present"]
+    assert "w1, w2" in res.checks[0].detail
+    assert V.deck_wheelsets(V.INPUTS / "tgv_profile_polach.nml") == ["w1", "w2", "w3", "w4"]
+
+
+def test_cli_list_and_freeze_usage(capsys, tmp_path):
+    assert V.main(["list"]) == 0
+    assert "manchester_v1_tc1" in capsys.readouterr().out
+    assert V.main(["freeze", "tgv_bogie_curve", "--out", str(tmp_path)]) == 1
+    assert "no results" in capsys.readouterr().err
