@@ -34,6 +34,7 @@ program test_mbench_a22_geometry
   character(len=512) :: line
   real(wp) :: v(25), yws(21), yaw(21), roll(21), ul_ref(21), gl_ref(21), ur_ref(21), gr_ref(21)
   real(wp) :: z, phi, ul(21), ur(21), gl(21), gr(21), err_u, err_g, jump, phis(21), err_roll, err_gf
+  real(wp) :: xl(21), xr(21), xl_ref(21), xr_ref(21), err_x
   integer :: unit, ios, n, i, nl(21), nr(21), ir, il
   logical :: flange_r(21)
 
@@ -61,6 +62,9 @@ program test_mbench_a22_geometry
   end do
   close (unit)
   call check(n == 21, 'reference.csv has 21 cases')
+  ! longitudinal contact positions XCP(TR) [mm] from CONTACT's outputs (same x axis as ours)
+  call read_xcp(dir // '/reference/mbench_a22/mbench_a22_left.ref_out', xl_ref)
+  call read_xcp(dir // '/reference/mbench_a22/mbench_a22_right.ref_out', xr_ref)
 
   write (*, '(a)') ' case  y[mm]  roll_ref   roll_rigid | nL uL[mm] ref    gL[rad] ref     | nR uR[mm] ref     gR[rad] ref'
   do i = 1, n
@@ -72,6 +76,7 @@ program test_mbench_a22_geometry
     ul(i) = left%patch(il)%u_rail; gl(i) = left%patch(il)%contact_angle
     ur(i) = right%patch(ir)%u_rail; gr(i) = right%patch(ir)%contact_angle
     flange_r(i) = any(abs(right%patch(1:nr(i))%contact_angle) > 0.5_wp)
+    xl(i) = left%patch(il)%point_rail(1); xr(i) = right%patch(ir)%point_rail(1)
     ! the hill-climbing search along each strip equals the exhaustive search over all cones
     call strip_wheel_contact(geo%wheel, geo%rail, -yws(i), z - 2.0e-5_wp, phi, -yaw(i), full_l, exhaustive=.true.)
     call strip_wheel_contact(geo%wheel, geo%rail, yws(i), z - 2.0e-5_wp, -phi, yaw(i), full_r, exhaustive=.true.)
@@ -113,6 +118,15 @@ program test_mbench_a22_geometry
   call check(err_gf < 0.02_wp, 'flange contact angles within 0.02 rad of CONTACT')
   call check(err_roll < 0.10_wp, 'rigid-contact roll within 10% of the roll CONTACT balanced for 10 kN per wheel')
   call check(abs(phis(1)) < 1e-12_wp, 'centred wheelset: zero roll')
+  ! longitudinal position: the yawed wheel's centre plane (yaw x 0.745 m, about 0.9 mm per
+  ! 1.2 mrad) plus the flange lead (5.8 mm at 6.5 mm shift)
+  err_x = max(maxval(abs(xl(1:n) - xl_ref(1:n))), maxval(abs(xr(1:n) - xr_ref(1:n))))
+  write (*, '(a)') ' case  xL ours  xL ref   xR ours  xR ref [mm]'
+  do i = 1, n
+    write (*, '(i4,4f9.3)') i, 1000 * xl(i), 1000 * xl_ref(i), 1000 * xr(i), 1000 * xr_ref(i)
+  end do
+  write (*, '(a,f7.3,a)') 'max |x_cp - ref| = ', 1000 * err_x, ' mm'
+  call check(err_x < 0.5e-3_wp, 'longitudinal contact positions (yaw offset, flange lead) within 0.5 mm of CONTACT')
   ! jumps of the right contact where CONTACT jumps (> 4 mm between 0.5 mm steps), and only there
   do i = 1, n - 1
     jump = abs(ur(i + 1) - ur(i))
@@ -127,6 +141,27 @@ program test_mbench_a22_geometry
   if (failures > 0) error stop 1
 
 contains
+
+  subroutine read_xcp(path, x)
+    character(len=*), intent(in) :: path
+    real(wp), intent(out) :: x(:)
+    integer :: u, ios, m
+    character(len=256) :: l
+    x = 0; m = 0
+    open (newunit=u, file=path, status='old', action='read')
+    do
+      read (u, '(a)', iostat=ios) l
+      if (ios /= 0) exit
+      if (index(l, 'XCP(TR)') > 0) then
+        read (u, '(a)', iostat=ios) l
+        m = m + 1
+        if (m <= size(x)) read (l, *) x(m)
+      end if
+    end do
+    close (u)
+    x = x * 1.0e-3_wp
+    call check(m == size(x), 'XCP(TR) read for every case of ' // path)
+  end subroutine read_xcp
 
   integer function deepest(res) result(k)
     type(wheel_contact_t), intent(in) :: res
