@@ -15,9 +15,8 @@ module rd_cmd_profile_scan
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_IO
-  use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL
-  use rd_profile_io, only: read_profile_file
-  use rd_profile_analytic, only: s1002_profile, rail_head_profile, RAIL_60E1, RAIL_54E1
+  use rd_profile, only: profile_t
+  use rd_profile_source, only: load_wheel_profile, load_rail_profile
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
   use rd_contact_geometry, only: contact_geometry_t, init_strip_contact
   use rd_contact_patch, only: MAX_PATCHES
@@ -108,22 +107,8 @@ contains
     end if
 
     status = 1
-    select case (lower(wheel_name))
-    case ('s1002')
-      call s1002_profile(wprof, 1.0e-4_wp, error)
-    case default
-      call read_profile_file(wheel_name, PROFILE_WHEEL, wprof, error)
-    end select
-    if (.not. allocated(error)) then
-      select case (lower(rail_name))
-      case ('60e1', 'uic60')
-        call rail_head_profile(RAIL_60E1, rprof, 1.0e-4_wp, error)
-      case ('54e1')
-        call rail_head_profile(RAIL_54E1, rprof, 1.0e-4_wp, error)
-      case default
-        call read_profile_file(rail_name, PROFILE_RAIL, rprof, error)
-      end select
-    end if
+    call load_wheel_profile(wheel_name, wprof, error)
+    if (.not. allocated(error)) call load_rail_profile(rail_name, rprof, error)
     if (.not. allocated(error)) call init_strip_contact(geo, wprof, rprof, pl, opt, error)
     if (.not. allocated(error)) call run_profile_scan(geo, ymax, step, yaw_per_shift, lowering, scan, error)
     if (allocated(error)) then
@@ -223,15 +208,5 @@ contains
     write (b, '(es23.15e3)') x
     t = trim(adjustl(b))
   end function num
-
-  pure function lower(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: t
-    integer :: i
-    t = s
-    do i = 1, len(s)
-      if (s(i:i) >= 'A' .and. s(i:i) <= 'Z') t(i:i) = achar(iachar(s(i:i)) + 32)
-    end do
-  end function lower
 
 end module rd_cmd_profile_scan
