@@ -10,6 +10,7 @@ module rd_runner_commands
   use rd_cmd_creep, only: run_creep_command
   use rd_cmd_profile_scan, only: run_profile_scan_command
   use rd_track_export, only: export_track
+  use rd_build_info, only: python_command, shell_quote
   implicit none
   private
   public :: run_command
@@ -24,7 +25,7 @@ module rd_runner_commands
   character(len=*), parameter :: usage = &
     'usage: raildyn run DECK [-o OUT.h5] [--progress|--quiet] | check DECK | ' // &
     'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | ' // &
-    'hertz ... | creep ... | version | help'
+    'campaign run|summary|decks CAMPAIGN.toml | hertz ... | creep ... | version | help'
 
 contains
 
@@ -45,6 +46,8 @@ contains
       call command_track(args(2:), status)
     case ('profile-scan')
       call run_profile_scan_command(args(2:), status)
+    case ('campaign')
+      call command_campaign(args(2:), status)
     case ('hertz')
       call run_hertz_command(args(2:), status)
     case ('creep')
@@ -237,4 +240,17 @@ contains
     if (progress >= 0) write (output_unit, '(2a)') 'raildyn: track alignment written to ', output
     status = 0
   end subroutine command_track
+  !> Parametric campaigns are driven by the Python package (raildyn.campaign), which runs
+  !> this executable once per parameter set, locally or as a Slurm job array.
+  subroutine command_campaign(args, status)
+    character(len=*), intent(in) :: args(:)
+    integer, intent(out) :: status
+    character(len=:), allocatable :: cmd
+    integer :: i
+    cmd = python_command() // ' -m raildyn.campaign'
+    do i = 1, size(args)
+      cmd = cmd // ' ' // shell_quote(trim(args(i)))
+    end do
+    call execute_command_line(cmd, exitstat=status)
+  end subroutine command_campaign
 end module rd_runner_commands

@@ -52,7 +52,7 @@ contains
     type(body_spec_t), allocatable, intent(out) :: bodies(:)
     real(wp), allocatable, intent(out) :: frame_offsets(:)
     type(error_t), allocatable, intent(out) :: error
-    integer :: n, i, j, k, nframes, hops
+    integer :: n, i, j, k, nframes, hops, ia
     integer, allocatable :: frame_of(:), owner(:)
     character(len=:), allocatable :: name, frame
     type(deck_string_t), allocatable :: frozen(:)
@@ -124,7 +124,11 @@ contains
         if (deck%given('body', i, 'frozen')) then
           call deck%get('body', i, 'frozen', frozen, error); if (allocated(error)) return
           do j = 1, size(frozen)
-            k = findloc(dof_names, frozen(j)%s, dim=1)
+            ! (a loop: gfortran 12's findloc misses deferred-length strings)
+            k = 0
+            do ia = 1, 6
+              if (trim(dof_names(ia)) == frozen(j)%s) k = ia
+            end do
             if (k == 0) then
               call make_error(error, RD_ERR_INPUT, deck%origin('body', i, 'frozen') // ": '" // &
                 frozen(j)%s // "' is not a degree of freedom; expected x, y, z, yaw, roll or pitch")

@@ -7,6 +7,7 @@ module rd_track_export
   use rd_track_point, only: track_point_t
   use rd_hdf5_writer, only: h5_writer_t
   use rd_scene, only: scene_t
+  use rd_build_info, only: python_command, shell_quote
   implicit none
   private
   public :: export_track
@@ -74,18 +75,11 @@ contains
     call writer%close('completed', total, 0.0_wp, error)
     if (allocated(error)) return
     if (len(plot) > 0) then
-      call execute_command_line(python_command() // ' -m raildyn.plots track "' // path // '" "' // &
-                                plot // '"', exitstat=status)
+      call execute_command_line(python_command() // ' -m raildyn.plots track ' // shell_quote(path) // &
+                                ' ' // shell_quote(plot), exitstat=status)
       if (status /= 0) call make_error(error, RD_ERR_IO, 'plotting ' // plot // ' failed (needs ' // &
                                        'Python 3 with h5py and matplotlib; the HDF5 file was written)')
     end if
   end subroutine export_track
 
-  !> The Python interpreter and package path configured at build time.
-  function python_command() result(cmd)
-    character(len=:), allocatable :: cmd
-    include 'rd_build_config.inc'
-    cmd = 'PYTHONPATH="' // python_package_dir // '${PYTHONPATH:+:$PYTHONPATH}" "' // &
-          python_executable // '"'
-  end function python_command
 end module rd_track_export

@@ -1,0 +1,428 @@
+"""Parametric campaigns: many runs of one base deck with parameters swept.
+
+A campaign is described by a TOML file (SI units, paths relative to the file)::
+
+    name = "bogie_speed_sweep"
+    deck = "../inputs/tgv_bogie_straight_20.nml"   # the base deck
+    output = "runs/bogie_speed_sweep"              # one folder per run below this
+    executor = "local"                             # "local" (process pool) or "slurm"
+    jobs = 2                                       # local: runs at once
+
+    [sweep]                                        # Cartesian product of the lists
+    "simulation.speed" = [20.0, 30.0, 40.0]        # group.parameter (groups that occur once)
+    "wheelset[w1].friction" = [0.3, 0.4]           # group[name].parameter (named groups)
+
+    [[metrics]]                                    # one number per run for the summary
+    name = "ws1_lateral_amplitude"
+    channel = "bodies/ws1/position_track:y"        # series path, ':component' optional
+    reduce = "max_abs"                             # max min mean max_abs rms final growth_rate
+    window = [5.0, 10.0]                           # optional time window [s]
+
+    [slurm]                                        # executor = "slurm"
+    options = ["--time=00:30:00", "--mem=2G"]
+
+Each run gets a folder with `deck.nml` (an ``&include`` of the base deck followed by the
+overriding groups, so the run's deck says exactly what differs), `results.h5`, `log.txt` and
+`status.json`. Runs already completed with the same deck are not run again (a campaign can
+be resumed after an interruption). ``summary.csv`` collects parameters, status and metrics.
+
+Command line::
+
+    python -m raildyn.campaign run CAMPAIGN.toml [--jobs N] [--executor local|slurm] [--submit]
+    python -m raildyn.campaign summary CAMPAIGN.toml
+    python -m raildyn.campaign decks CAMPAIGN.toml      # write the decks only
+
+With ``executor = "slurm"`` the runs become one job array (``campaign.sbatch`` in the output
+folder, one array task per run, ``sbatch --wait`` with ``--submit``); the summary is made when
+the array has finished (or later with ``summary``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import hashlib
+import itertools
+import json
+import math
+import os
+import re
+import shlex
+import subprocess
+import sys
+import time
+import tomllib
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from .results import Results
+
+KEY_RE = re.compile(r"^(?P<group>[a-z_]+)(\[(?P<name>[^\]]+)\])?\.(?P<param>[a-z_0-9]+)$")
+REDUCTIONS = ("max", "min", "mean", "max_abs", "rms", "final", "growth_rate")
+
+
+class CampaignError(ValueError):
+    """A campaign file that cannot be used; the message names the file and the entry."""
+
+
+@dataclass
+class Metric:
+    name: str
+    channel: str
+    reduce: str
+    window: tuple[float, float] | None = None
+
+
+@dataclass
+class Campaign:
+    path: Path
+    name: str
+    deck: Path
+    output: Path
+    executor: str = "local"
+    jobs: int = 1
+    sweep: dict[str, list[Any]] = field(default_factory=dict)
+    metrics: list[Metric] = field(default_factory=list)
+    slurm_options: list[str] = field(default_factory=list)
+    exe: Path | None = None
+
+    def runs(self) -> list[dict[str, Any]]:
+        """Parameter sets of the Cartesian product, in a stable order."""
+        keys = list(self.sweep)
+        return [dict(zip(keys, values)) for values in itertools.product(*self.sweep.values())]
+
+
+def _fortran_value(value: Any, where: str) -> str:
+    """A namelist value; only numbers, strings, logicals and lists of them are accepted, so
+    that a typo in the campaign file cannot become a silently different deck."""
+    if isinstance(value, bool):
+        return ".true." if value else ".false."
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise CampaignError(f"{where}: {value!r} is not a finite number")
+        return repr(value)
+    if isinstance(value, str):
+        return "'" + value.replace("'", "''") + "'"
+    if isinstance(value, list) and value and not any(isinstance(v, list) for v in value):
+        return ", ".join(_fortran_value(v, where) for v in value)
+    raise CampaignError(f"{where}: {value!r} is not a number, string, logical or list of them")
+
+
+def load_campaign(path: str | os.PathLike) -> Campaign:
+    path = Path(path).resolve()
+    try:
+        data = tomllib.loads(path.read_text())
+    except FileNotFoundError:
+        raise CampaignError(f"{path}: no such campaign file") from None
+    except tomllib.TOMLDecodeError as e:
+        raise CampaignError(f"{path}: {e}") from None
+
+    def need(key: str, kind: type) -> Any:
+        if key not in data:
+            raise CampaignError(f"{path}: '{key}' is required")
+        if not isinstance(data[key], kind):
+            raise CampaignError(f"{path}: '{key}' must be a {kind.__name__}")
+        return data[key]
+
+    known = {"name", "deck", "output", "executor", "jobs", "sweep", "metrics", "slurm", "raildyn"}
+    for key in data:
+        if key not in known:
+            raise CampaignError(f"{path}: unknown entry '{key}'; expected one of {sorted(known)}")
+    base = path.parent
+    camp = Campaign(path=path, name=need("name", str), deck=(base / need("deck", str)).resolve(),
+                    output=(base / data.get("output", "runs/" + data.get("name", "campaign"))).resolve())
+    if not camp.deck.exists():
+        raise CampaignError(f"{path}: deck '{data['deck']}' not found ({camp.deck})")
+    camp.executor = data.get("executor", "local")
+    if camp.executor not in ("local", "slurm"):
+        raise CampaignError(f"{path}: executor must be 'local' or 'slurm', got {camp.executor!r}")
+    camp.jobs = int(data.get("jobs", os.cpu_count() or 1))
+    if camp.jobs < 1:
+        raise CampaignError(f"{path}: jobs must be >= 1")
+    sweep = data.get("sweep", {})
+    if not isinstance(sweep, dict):
+        raise CampaignError(f"{path}: [sweep] must be a table of lists")
+    for key, values in sweep.items():
+        if not KEY_RE.match(key):
+            raise CampaignError(f"{path}: sweep key '{key}' must read group.parameter or "
+                                "group[name].parameter")
+        if not isinstance(values, list) or not values:
+            raise CampaignError(f"{path}: sweep '{key}' must be a non-empty list of values")
+        for v in values:
+            _fortran_value(v, f"{path}: sweep '{key}'")
+        camp.sweep[key] = values
+    for i, m in enumerate(data.get("metrics", [])):
+        where = f"{path}: metrics[{i}]"
+        for k in ("name", "channel", "reduce"):
+            if k not in m:
+                raise CampaignError(f"{where}: '{k}' is required")
+        if m["reduce"] not in REDUCTIONS:
+            raise CampaignError(f"{where}: reduce must be one of {REDUCTIONS}, got {m['reduce']!r}")
+        window = m.get("window")
+        if window is not None and (len(window) != 2 or not window[0] < window[1]):
+            raise CampaignError(f"{where}: window must be [t_from, t_to] with t_from < t_to")
+        camp.metrics.append(Metric(m["name"], m["channel"], m["reduce"],
+                                   tuple(window) if window else None))
+    camp.slurm_options = list(data.get("slurm", {}).get("options", []))
+    if "raildyn" in data:
+        camp.exe = (base / data["raildyn"]).resolve()
+    return camp
+
+
+def override_deck(base_deck: Path, params: dict[str, Any]) -> str:
+    """The deck of one run: the base deck included, then one group per overridden entity."""
+    lines = [f"! raildyn campaign run: base deck plus overrides",
+             f"&include file = {_fortran_value(str(base_deck), 'deck')} /"]
+    groups: dict[tuple[str, str | None], list[str]] = {}
+    for key, value in params.items():
+        m = KEY_RE.match(key)
+        assert m is not None
+        groups.setdefault((m["group"], m["name"]), []).append(
+            f"{m['param']} = {_fortran_value(value, key)}")
+    for (group, name), assigns in groups.items():
+        head = [f"name = {_fortran_value(name, group)}"] if name is not None else []
+        lines.append(f"&{group} " + ", ".join(head + assigns) + " /")
+    return "\n".join(lines) + "\n"
+
+
+def find_raildyn(campaign: Campaign) -> Path:
+    candidates = [campaign.exe] if campaign.exe else []
+    build = os.environ.get("RAILDYN_BUILD_DIR")
+    if build:
+        candidates.append(Path(build) / "bin" / "raildyn")
+    candidates.append(Path(__file__).resolve().parents[2] / "build" / "bin" / "raildyn")
+    for c in candidates:
+        if c and c.exists():
+            return c.resolve()
+    raise CampaignError("raildyn executable not found: set 'raildyn' in the campaign file or "
+                        "RAILDYN_BUILD_DIR")
+
+
+def run_dir(campaign: Campaign, index: int) -> Path:
+    return campaign.output / f"run{index:04d}"
+
+
+def write_decks(campaign: Campaign) -> list[tuple[int, dict[str, Any], Path]]:
+    out = []
+    for i, params in enumerate(campaign.runs()):
+        d = run_dir(campaign, i)
+        d.mkdir(parents=True, exist_ok=True)
+        text = override_deck(campaign.deck, params)
+        deck = d / "deck.nml"
+        if not deck.exists() or deck.read_text() != text:
+            deck.write_text(text)
+        (d / "parameters.json").write_text(json.dumps(params, indent=1))
+        out.append((i, params, d))
+    return out
+
+
+def _deck_hash(run: Path) -> str:
+    """Hash of the run's deck and every file it includes (so an edited base deck reruns)."""
+    h = hashlib.sha256()
+    h.update((run / "deck.nml").read_bytes())
+    text = (run / "deck.nml").read_text()
+    for m in re.finditer(r"file\s*=\s*'([^']*)'", text):
+        p = Path(m.group(1))
+        if p.exists():
+            h.update(p.read_bytes())
+    return h.hexdigest()
+
+
+def run_one(exe: Path, run: Path) -> dict[str, Any]:
+    """Run one deck unless it completed before with the same inputs; returns its status."""
+    status_file = run / "status.json"
+    digest = _deck_hash(run)
+    if status_file.exists():
+        old = json.loads(status_file.read_text())
+        if old.get("exit_code") == 0 and old.get("deck_sha256") == digest and \
+                (run / "results.h5").exists():
+            old["reused"] = True
+            return old
+    t0 = time.time()
+    with open(run / "log.txt", "w") as log:
+        proc = subprocess.run([str(exe), "run", "deck.nml", "-o", "results.h5", "--quiet"],
+                              cwd=run, stdout=log, stderr=subprocess.STDOUT)
+    status = {"exit_code": proc.returncode, "wall_time": time.time() - t0,
+              "deck_sha256": digest, "reused": False}
+    if proc.returncode != 0:
+        status["error"] = (run / "log.txt").read_text().strip().splitlines()[-1:] or [""]
+        status["error"] = status["error"][0]
+    status_file.write_text(json.dumps(status, indent=1))
+    return status
+
+
+def reduce_channel(t: np.ndarray, y: np.ndarray, how: str,
+                   window: tuple[float, float] | None) -> float:
+    if window is not None:
+        mask = (t >= window[0]) & (t <= window[1])
+        t, y = t[mask], y[mask]
+    if len(y) == 0:
+        return float("nan")
+    if how == "max":
+        return float(np.max(y))
+    if how == "min":
+        return float(np.min(y))
+    if how == "mean":
+        return float(np.mean(y))
+    if how == "max_abs":
+        return float(np.max(np.abs(y)))
+    if how == "rms":
+        return float(np.sqrt(np.mean(y ** 2)))
+    if how == "final":
+        return float(y[-1])
+    if how == "growth_rate":
+        return growth_rate(t, y)
+    raise CampaignError(f"unknown reduction {how!r}")
+
+
+def growth_rate(t: np.ndarray, y: np.ndarray) -> float:
+    """Exponential growth rate [1/s] of an oscillation's envelope: a least-squares line
+    through log |peak| of the complete half-cycles about the signal's mean (> 0 grows,
+    < 0 decays). The incomplete half-cycles at both ends are left out."""
+    t = np.asarray(t, float)
+    y = np.asarray(y, float)
+    y = y - np.mean(y)
+    crossings = np.nonzero(np.sign(y[1:]) * np.sign(y[:-1]) < 0)[0] + 1
+    if len(crossings) < 4:
+        return float("nan")
+    idx = [a + int(np.argmax(np.abs(y[a:b]))) for a, b in zip(crossings[:-1], crossings[1:])]
+    tp, yp = t[idx], np.abs(y[idx])
+    keep = yp > 0
+    if keep.sum() < 3:
+        return float("nan")
+    return float(np.polyfit(tp[keep], np.log(yp[keep]), 1)[0])
+
+
+def metrics_of(campaign: Campaign, run: Path) -> dict[str, float]:
+    res = Results(run / "results.h5")
+    out = {}
+    for m in campaign.metrics:
+        data = res.get(m.channel)
+        if data.ndim > 1:
+            data = data[:, 0]
+        out[m.name] = reduce_channel(res.time, data, m.reduce, m.window)
+    return out
+
+
+def write_summary(campaign: Campaign) -> Path:
+    rows = []
+    for i, params in enumerate(campaign.runs()):
+        d = run_dir(campaign, i)
+        status = {}
+        if (d / "status.json").exists():
+            status = json.loads((d / "status.json").read_text())
+        row = {"run": d.name, **params, "exit_code": status.get("exit_code", ""),
+               "wall_time": status.get("wall_time", ""), "error": status.get("error", "")}
+        if status.get("exit_code") == 0:
+            row.update(metrics_of(campaign, d))
+        rows.append(row)
+    path = campaign.output / "summary.csv"
+    fields = ["run", *campaign.sweep, "exit_code", "wall_time", "error",
+              *[m.name for m in campaign.metrics]]
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        w.writeheader()
+        for r in rows:
+            w.writerow(r)
+    return path
+
+
+def slurm_script(campaign: Campaign, exe: Path, runs: Sequence[Path]) -> Path:
+    """A job array, one task per run; each task runs in its run folder and records its
+    status like the local executor (status.json)."""
+    listing = campaign.output / "runs.txt"
+    listing.write_text("".join(f"{r}\n" for r in runs))
+    py = shlex.quote(sys.executable)
+    pkg = shlex.quote(str(Path(__file__).resolve().parents[1]))
+    opts = "".join(f"#SBATCH {o}\n" for o in campaign.slurm_options)
+    script = campaign.output / "campaign.sbatch"
+    script.write_text(
+        "#!/bin/bash\n"
+        f"#SBATCH --job-name={campaign.name}\n"
+        f"#SBATCH --array=0-{len(runs) - 1}\n"
+        f"#SBATCH --output={campaign.output}/slurm-%A_%a.out\n"
+        f"{opts}"
+        "set -eu\n"
+        f"run=$(sed -n \"$((SLURM_ARRAY_TASK_ID + 1))p\" {shlex.quote(str(listing))})\n"
+        f"PYTHONPATH={pkg}${{PYTHONPATH:+:$PYTHONPATH}} {py} -m raildyn.campaign task "
+        f"{shlex.quote(str(exe))} \"$run\"\n")
+    return script
+
+
+def run_campaign(campaign: Campaign, jobs: int | None = None, executor: str | None = None,
+                 submit: bool = False, progress=print) -> Path | None:
+    exe = find_raildyn(campaign)
+    runs = write_decks(campaign)
+    executor = executor or campaign.executor
+    if executor == "slurm":
+        script = slurm_script(campaign, exe, [d for _, _, d in runs])
+        if not submit:
+            progress(f"job array written: sbatch {script}")
+            return None
+        proc = subprocess.run(["sbatch", "--wait", str(script)], capture_output=True, text=True)
+        progress(proc.stdout.strip() or proc.stderr.strip())
+        return write_summary(campaign)
+    jobs = jobs or campaign.jobs
+    done = 0
+
+    def one(item):
+        _, _, d = item
+        return d, run_one(exe, d)
+
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        for d, status in pool.map(one, runs):
+            done += 1
+            state = "reused" if status.get("reused") else (
+                "ok" if status["exit_code"] == 0 else f"failed ({status.get('error', '')})")
+            progress(f"[{done}/{len(runs)}] {d.name}: {state}")
+    return write_summary(campaign)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="raildyn campaign", description=__doc__.split("\n\n")[0])
+    sub = ap.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="write the decks, run them, write summary.csv")
+    r.add_argument("campaign")
+    r.add_argument("--jobs", type=int)
+    r.add_argument("--executor", choices=("local", "slurm"))
+    r.add_argument("--submit", action="store_true", help="slurm: submit and wait")
+    s = sub.add_parser("summary", help="(re)write summary.csv from finished runs")
+    s.add_argument("campaign")
+    d = sub.add_parser("decks", help="write the run decks only")
+    d.add_argument("campaign")
+    t = sub.add_parser("task", help=argparse.SUPPRESS)   # one Slurm array task
+    t.add_argument("exe")
+    t.add_argument("run")
+    args = ap.parse_args(argv)
+    try:
+        if args.command == "task":
+            status = run_one(Path(args.exe), Path(args.run))
+            return 0 if status["exit_code"] == 0 else 1
+        camp = load_campaign(args.campaign)
+        if args.command == "decks":
+            for _, _, d in write_decks(camp):
+                print(d / "deck.nml")
+            return 0
+        if args.command == "summary":
+            print(write_summary(camp))
+            return 0
+        path = run_campaign(camp, jobs=args.jobs, executor=args.executor, submit=args.submit)
+        if path is not None:
+            print(f"summary: {path}")
+            with open(path) as f:
+                failed = [row for row in csv.DictReader(f) if row["exit_code"] != "0"]
+            return 1 if failed else 0
+        return 0
+    except CampaignError as e:
+        print(f"raildyn campaign: error: {e}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
