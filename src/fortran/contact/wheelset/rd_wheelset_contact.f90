@@ -35,6 +35,9 @@ module rd_wheelset_contact
 
   !> Loads below this are "no vertical load" for Y/Q [N].
   real(wp), parameter :: q_min = 1.0_wp
+  !> A contact within this distance of the field-side end of the wheel profile means the
+  !> rail has left the tread [m].
+  real(wp), parameter :: field_end_margin = 1.0e-3_wp
 
   !> Parameters of one wheelset's contact (fixed after init).
   type :: wheelset_model_t
@@ -48,6 +51,7 @@ module rd_wheelset_contact
     real(wp) :: liftoff_limit = 0.02_wp
     real(wp) :: flange_stiffness = 0       !< knife-edge lateral stop [N/m]
     real(wp) :: s_flange_tip = -huge(1.0_wp) !< strip model: wheel coordinate of the flange tip [m]
+    real(wp) :: s_field_end = huge(1.0_wp)   !< strip model: field-side end of the wheel profile [m]
   end type wheelset_model_t
 
   type, extends(force_provider_t) :: wheelset_contact_t
@@ -108,7 +112,10 @@ contains
       m%v0 = spec%creep_v0
       m%liftoff_limit = spec%liftoff_limit
       m%flange_stiffness = spec%knife_flange_stiffness
-      if (m%geo%model == CONTACT_MODEL_STRIP) m%s_flange_tip = flange_tip_coordinate(m%geo)
+      if (m%geo%model == CONTACT_MODEL_STRIP) then
+        m%s_flange_tip = flange_tip_coordinate(m%geo)
+        m%s_field_end = m%geo%wheel%s(m%geo%wheel%n)
+      end if
     end subroutine build_one
   end subroutine wheelset_contact_init
 
@@ -160,6 +167,12 @@ contains
     if (.not. kin%is_wheelset) then
       call make_error(error, RD_ERR_INPUT, 'wheelset contact ' // itoa(i) // &
                       ': the body is not a wheelset (its spin must be a separate angle)')
+      return
+    end if
+    ! a NaN velocity would reach the creep laws' comparisons (FP traps in Debug builds)
+    if (.not. (all(finite(kin%v)) .and. all(finite(kin%omega)) .and. all(finite(kin%track%a)))) then
+      call make_error(error, RD_ERR_RUNTIME, 'wheelset contact ' // itoa(i) // ' at t = ' // rtoa(t) // &
+                      ' s: non-finite wheelset velocity or track frame')
       return
     end if
     associate (m => self%models(i), res => self%results(i))
@@ -299,6 +312,12 @@ contains
           call make_error(error, RD_ERR_PHYSICS, 'derailment: contact point at wheel coordinate s = ' // &
                           rtoa(wc%patch(k)%s_wheel) // ' m, beyond the flange tip (s = ' // &
                           rtoa(m%s_flange_tip) // ' m)')
+          return
+        end if
+        ! the geometry clamps a rail line beyond the tread to the profile's end
+        if (wc%patch(k)%s_wheel > m%s_field_end - field_end_margin) then
+          call make_error(error, RD_ERR_PHYSICS, 'derailment: the rail is beyond the field side of the tread '// &
+                          '(contact at wheel coordinate s = ' // rtoa(wc%patch(k)%s_wheel) // ' m)')
           return
         end if
       end do
