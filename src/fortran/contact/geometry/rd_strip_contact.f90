@@ -20,7 +20,7 @@ module rd_strip_contact
 
   real(wp), parameter :: flange_angle = 0.3_wp   !< |contact angle| from which a patch is a flange patch
   real(wp), parameter :: coarse_gap = 5.0e-4_wp  !< strips farther than this from touching are interpolated [m]
-  real(wp), parameter :: virtual_eps = 0.60_wp   !< virtual penetration factor (Kik-Piotrowski: 0.55; see theory doc)
+  real(wp), parameter :: virtual_eps = 0.55_wp   !< virtual penetration factor (Kik-Piotrowski: 0.55; see theory doc)
 
 contains
 
@@ -227,7 +227,7 @@ contains
       real(wp) :: x, w, wl, slope, rr, nrm, te, tx, thr, wsum, qsum
       integer :: kk, jw, kc2
       ! Contact point: centroid of the strips inside the virtual-penetration region of
-      ! Kik & Piotrowski (VSD 46, 2008), delta_i > (1 - eps) delta_max with eps = 0.6,
+      ! Kik & Piotrowski (VSD 46, 2008), delta_i > (1 - eps) delta_max with their eps = 0.55,
       ! weighted by delta_i - (1 - eps) delta_max. For a Hertzian (parabolic) gap this is
       ! the strip of maximum penetration of eq. 4.77; for the wide, flat gaps of worn or
       ! near-conformal profiles it follows the pressure resultant instead of a flat maximum.
