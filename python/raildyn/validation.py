@@ -828,7 +828,126 @@ def _kind_critical_speed(ctx, row, above: bool):
               row["justification"])
 
 
+# -- linear steady curving of a two-axle bogie (independent formulation) -------------------
+
+#: TGV 001 bogie data used by the linear steady-curving model (same numbers as
+#: inputs/vehicles/tgv001_bogie.nml, kept in sync by tests/python/test_validation_rules.py):
+#: wheelset and bogie frame masses (table 5.8), primary kx, ky per spring (table 5.4), primary
+#: spring lateral semi-spacing dp and semi-wheelbase l (deck ASSUMPTIONs), r0, e0, cone slope
+#: (table 5.7).
+TGV_BOGIE = dict(m_w=1500.0, m_b=3020.0, kx=3.90e7, ky=7.85e6, dp=1.0, l=1.5, r0=0.45, e0=0.75,
+                 lam=0.10033)
+
+
+def steady_curving_bogie(f11: float, f22: float, radius: float, a_q: float, p: dict = TGV_BOGIE) -> dict:
+    """Quasi-static curving of a two-axle bogie with conical wheels, linear creep and linear
+    primary suspension (the classical linear model, e.g. Wickens 2003 ch. 6; Iwnicki 2006,
+    Handbook of Railway Vehicle Dynamics, ch. 8), written in each body's own track frame like
+    raildyn's bodies, left-hand curve positive (curvature 1/radius > 0), y to the left, yaw nose
+    left. Wheelset i at x_i = +l (leading), -l (trailing):
+
+    - longitudinal creepages xi_L,R = -+(e0/R + lam y_i/r0): yaw moment -2 f11 e0 (e0/R + lam y_i/r0);
+    - lateral creepage eta = -psi_i: lateral force 2 f22 psi_i (spin neglected: it cancels
+      between the wheels of a cone);
+    - primary suspension (two springs per wheelset, lateral ky, longitudinal kx at +-dp):
+      lateral 2 ky (y_b + psi_b x_i - x_i^2/(2R) - y_i), yaw 2 kx dp^2 (psi_b - x_i/R - psi_i)
+      (the bogie frame is straight: at x_i the track lies x_i^2/(2R) towards the curve centre and
+      its tangent turns by x_i/R);
+    - uncompensated lateral acceleration a_q = V^2/R cos(phi) - g sin|phi| on every mass.
+
+    Returns y1, psi1, y2, psi2, yb, psib [m, rad]."""
+    l, kx, ky, dp = p["l"], p["kx"], p["ky"], p["dp"]
+    e0, r0, lam, mw, mb = p["e0"], p["r0"], p["lam"], p["m_w"], p["m_b"]
+    kap = 1.0 / radius
+    xs = (l, -l)
+    # unknowns u = [y1, psi1, y2, psi2, yb, psib]; rows: lateral/yaw of ws1, ws2, bogie
+    A = np.zeros((6, 6))
+    b = np.zeros(6)
+    for i, x in enumerate(xs):
+        iy, ip = 2 * i, 2 * i + 1
+        # wheelset lateral: 2 f22 psi + 2 ky (yb + psib x - x^2 k/2 - y) - mw a_q = 0
+        A[iy, ip] += 2 * f22
+        A[iy, iy] += -2 * ky
+        A[iy, 4] += 2 * ky
+        A[iy, 5] += 2 * ky * x
+        b[iy] += 2 * ky * x * x * kap / 2 + mw * a_q
+        # wheelset yaw: -2 f11 e0 (e0 k + lam y / r0) + 2 kx dp^2 (psib - x k - psi) = 0
+        A[ip, iy] += -2 * f11 * e0 * lam / r0
+        A[ip, ip] += -2 * kx * dp ** 2
+        A[ip, 5] += 2 * kx * dp ** 2
+        b[ip] += 2 * f11 * e0 * e0 * kap + 2 * kx * dp ** 2 * x * kap
+        # bogie lateral and yaw: the reactions
+        A[4, iy] += 2 * ky
+        A[4, 4] += -2 * ky
+        A[4, 5] += -2 * ky * x
+        b[4] += -2 * ky * x * x * kap / 2
+        A[5, iy] += 2 * ky * x
+        A[5, 4] += -2 * ky * x
+        A[5, 5] += -2 * ky * x * x - 2 * kx * dp ** 2
+        A[5, ip] += 2 * kx * dp ** 2
+        b[5] += -2 * ky * x * x * x * kap / 2 - 2 * kx * dp ** 2 * x * kap
+    b[4] += mb * a_q
+    u = np.linalg.solve(A, b)
+    return dict(zip(("y1", "psi1", "y2", "psi2", "yb", "psib"), map(float, u)))
+
+
+def _identify_creep_coefficients(ctx: Context, row: dict, wheelsets: Sequence[str]) -> tuple[float, float]:
+    """f11, f22 [N] of the run's own contacts in the window, least squares over the wheelsets:
+    f11 from the difference right - left of Fx against that of xi, f22 from the sum left + right
+    of Fy against that of eta (the spin contributions of a cone's two wheels cancel in the sum)."""
+    dfx, dxi, sfy, seta = [], [], [], []
+    for w in wheelsets:
+        c = {}
+        for side in ("left", "right"):
+            base = f"wheelsets/{w}/{side}/contact1"
+            _, cr = _window(ctx, row, f"{base}/creepage:xi")
+            _, et = _window(ctx, row, f"{base}/creepage:eta")
+            _, fx = _window(ctx, row, f"{base}/creep_force_contact:fx")
+            _, fy = _window(ctx, row, f"{base}/creep_force_contact:fy")
+            c[side] = [float(np.mean(v)) for v in (cr, et, fx, fy)]
+        dxi.append(c["right"][0] - c["left"][0])
+        dfx.append(c["right"][2] - c["left"][2])
+        seta.append(c["right"][1] + c["left"][1])
+        sfy.append(c["right"][3] + c["left"][3])
+    dxi, dfx, seta, sfy = map(np.array, (dxi, dfx, seta, sfy))
+    if not (np.dot(dxi, dxi) > 0 and np.dot(seta, seta) > 0):
+        raise CaseError("zero creepages in the window: cannot identify the creep coefficients")
+    return float(-np.dot(dfx, dxi) / np.dot(dxi, dxi)), float(-np.dot(sfy, seta) / np.dot(seta, seta))
+
+
+#: Designed track curve (inputs/tracks/tgv_designed_track.nml): radius, cant, cant base.
+TGV_CURVE = dict(radius=1000.0, cant=0.050, cant_base=1.5)
+
+
+def _kind_linear_curving(ctx, row):
+    f11, f22 = _identify_creep_coefficients(ctx, row, ("w1", "w2"))
+    V = ctx.speed()
+    phi = math.asin(TGV_CURVE["cant"] / TGV_CURVE["cant_base"])
+    a_q = V ** 2 / TGV_CURVE["radius"] * math.cos(phi) - standard_gravity() * math.sin(phi)
+    ref = steady_curving_bogie(f11, f22, TGV_CURVE["radius"], a_q)
+    thr = float(row["threshold"])
+    got = {}
+    for k in (1, 2):
+        for comp, key in (("y", f"y{k}"), ("yaw", f"psi{k}")):
+            _, v = _window(ctx, row, f"bodies/ws{k}/position_track:{comp}")
+            got[key] = float(np.mean(v))
+    scale_y = max(abs(ref["y1"]), abs(ref["y2"]))
+    scale_p = max(abs(ref["psi1"]), abs(ref["psi2"]))
+    for key, scale, floor, unit in (("y1", scale_y, 5e-5, "m"), ("y2", scale_y, 5e-5, "m"),
+                                    ("psi1", scale_p, 2e-5, "rad"), ("psi2", scale_p, 2e-5, "rad")):
+        err = abs(got[key] - ref[key])
+        allowed = thr * scale + floor
+        ctx.check(f"{row['id']}:{key}", err <= allowed, got[key], f"{ref[key]:.4g} +- {allowed:.2g}", unit,
+                  f"linear steady-curving model with the run's own f11 = {f11:.4g} N, f22 = {f22:.4g} N, "
+                  f"a_q = {a_q:.4g} m/s^2; {row['justification']}")
+
+
+def standard_gravity() -> float:
+    return 9.80665
+
+
 CHECK_KINDS: dict[str, Callable] = {
+    "linear_steady_curving": _kind_linear_curving,
     "growth_rate_below": lambda c, r: _kind_growth(c, r, False),
     "growth_rate_above": lambda c, r: _kind_growth(c, r, True),
     "amplitude_below": lambda c, r: _kind_amplitude(c, r, False),
