@@ -837,58 +837,119 @@ def _kind_critical_speed(ctx, row, above: bool):
 #: (table 5.7).
 TGV_BOGIE = dict(m_w=1500.0, m_b=3020.0, kx=3.90e7, ky=7.85e6, dp=1.0, l=1.5, r0=0.45, e0=0.75,
                  lam=0.10033)
+#: Complete TGV 001 (inputs/vehicles/tgv001_vehicle.nml): car body mass (table 5.1), secondary
+#: kx, ky per spring (table 5.6) at +-ds laterally, bogie pivots at +-pivot (deck ASSUMPTIONs).
+TGV_VEHICLE = dict(m_c=43200.0, kx_s=1.73e5, ky_s=1.73e5, ds=1.0, pivot=9.35)
 
 
-def steady_curving_bogie(f11: float, f22: float, radius: float, a_q: float, p: dict = TGV_BOGIE) -> dict:
-    """Quasi-static curving of a two-axle bogie with conical wheels, linear creep and linear
-    primary suspension (the classical linear model, e.g. Wickens 2003 ch. 6; Iwnicki 2006,
-    Handbook of Railway Vehicle Dynamics, ch. 8), written in each body's own track frame like
-    raildyn's bodies, left-hand curve positive (curvature 1/radius > 0), y to the left, yaw nose
-    left. Wheelset i at x_i = +l (leading), -l (trailing):
+@dataclass
+class PlanarBody:
+    name: str
+    x: float                 #: longitudinal position of its track frame in the vehicle [m]
+    mass: float
+    wheelset: bool = False
 
-    - longitudinal creepages xi_L,R = -+(e0/R + lam y_i/r0): yaw moment -2 f11 e0 (e0/R + lam y_i/r0);
-    - lateral creepage eta = -psi_i: lateral force 2 f22 psi_i (spin neglected: it cancels
-      between the wheels of a cone);
-    - primary suspension (two springs per wheelset, lateral ky, longitudinal kx at +-dp):
-      lateral 2 ky (y_b + psi_b x_i - x_i^2/(2R) - y_i), yaw 2 kx dp^2 (psi_b - x_i/R - psi_i)
-      (the bogie frame is straight: at x_i the track lies x_i^2/(2R) towards the curve centre and
-      its tangent turns by x_i/R);
-    - uncompensated lateral acceleration a_q = V^2/R cos(phi) - g sin|phi| on every mass.
 
-    Returns y1, psi1, y2, psi2, yb, psib [m, rad]."""
-    l, kx, ky, dp = p["l"], p["kx"], p["ky"], p["dp"]
-    e0, r0, lam, mw, mb = p["e0"], p["r0"], p["lam"], p["m_w"], p["m_b"]
+@dataclass
+class PlanarSpring:
+    body_a: str
+    body_b: str
+    x: float                 #: longitudinal position of the attachment in the vehicle [m]
+    k_lat: float             #: total lateral stiffness [N/m]
+    k_yaw: float             #: total yaw stiffness (sum of kx d^2) [N m/rad]
+
+
+def steady_curving(bodies: Sequence[PlanarBody], springs: Sequence[PlanarSpring], f11: float, f22: float,
+                   radius: float, a_q: float, r0: float, e0: float, lam: float) -> dict[str, tuple[float, float]]:
+    """Quasi-static curving of a vehicle with conical wheelsets, linear creep and linear
+    springs, in the lateral/yaw plane (the classical linear model, e.g. Wickens 2003 ch. 6;
+    Iwnicki (ed.) 2006, Handbook of Railway Vehicle Dynamics, ch. 8). Every body is written in
+    its own track frame at x_b, like raildyn's bodies: y to the left, yaw nose left, left-hand
+    curve (curvature 1/radius > 0). A point of body b at vehicle position X lies, in the track
+    frame at X, at y_b + psi_b (X - x_b) - (X - x_b)^2 / (2R) with yaw psi_b - (X - x_b)/R
+    (the track bends towards the curve centre and its tangent turns). Wheelsets:
+
+    - longitudinal creepages xi_L,R = -+(e0/R + lam y/r0): yaw moment -2 f11 e0 (e0/R + lam y/r0);
+    - lateral creepage eta = -psi: lateral force 2 f22 psi (spin neglected: it cancels between
+      the wheels of a cone);
+
+    and the uncompensated lateral acceleration a_q = V^2/R cos(phi) - g sin|phi| loads every
+    mass (-m a_q along y). Returns {body: (y, psi)} [m, rad]."""
     kap = 1.0 / radius
-    xs = (l, -l)
-    # unknowns u = [y1, psi1, y2, psi2, yb, psib]; rows: lateral/yaw of ws1, ws2, bogie
-    A = np.zeros((6, 6))
-    b = np.zeros(6)
-    for i, x in enumerate(xs):
-        iy, ip = 2 * i, 2 * i + 1
-        # wheelset lateral: 2 f22 psi + 2 ky (yb + psib x - x^2 k/2 - y) - mw a_q = 0
-        A[iy, ip] += 2 * f22
-        A[iy, iy] += -2 * ky
-        A[iy, 4] += 2 * ky
-        A[iy, 5] += 2 * ky * x
-        b[iy] += 2 * ky * x * x * kap / 2 + mw * a_q
-        # wheelset yaw: -2 f11 e0 (e0 k + lam y / r0) + 2 kx dp^2 (psib - x k - psi) = 0
-        A[ip, iy] += -2 * f11 * e0 * lam / r0
-        A[ip, ip] += -2 * kx * dp ** 2
-        A[ip, 5] += 2 * kx * dp ** 2
-        b[ip] += 2 * f11 * e0 * e0 * kap + 2 * kx * dp ** 2 * x * kap
-        # bogie lateral and yaw: the reactions
-        A[4, iy] += 2 * ky
-        A[4, 4] += -2 * ky
-        A[4, 5] += -2 * ky * x
-        b[4] += -2 * ky * x * x * kap / 2
-        A[5, iy] += 2 * ky * x
-        A[5, 4] += -2 * ky * x
-        A[5, 5] += -2 * ky * x * x - 2 * kx * dp ** 2
-        A[5, ip] += 2 * kx * dp ** 2
-        b[5] += -2 * ky * x * x * x * kap / 2 - 2 * kx * dp ** 2 * x * kap
-    b[4] += mb * a_q
-    u = np.linalg.solve(A, b)
-    return dict(zip(("y1", "psi1", "y2", "psi2", "yb", "psib"), map(float, u)))
+    idx = {b.name: i for i, b in enumerate(bodies)}
+    n = 2 * len(bodies)
+    A = np.zeros((n, n))
+    rhs = np.zeros(n)
+    for i, b in enumerate(bodies):
+        rhs[2 * i] += b.mass * a_q
+        if b.wheelset:
+            A[2 * i, 2 * i + 1] += 2 * f22
+            A[2 * i + 1, 2 * i] += -2 * f11 * e0 * lam / r0
+            rhs[2 * i + 1] += 2 * f11 * e0 * e0 * kap
+
+    def disp(b: PlanarBody, X: float):
+        """(coefficients of y, psi; constant) of the lateral displacement and of the yaw at X."""
+        d = X - b.x
+        return (1.0, d, -kap * d * d / 2), (0.0, 1.0, -kap * d)
+
+    for s in springs:
+        a, b = bodies[idx[s.body_a]], bodies[idx[s.body_b]]
+        ia, ib = idx[s.body_a], idx[s.body_b]
+        (ly_a, lp_a, lc_a), (_, yp_a, yc_a) = disp(a, s.x)
+        (ly_b, lp_b, lc_b), (_, yp_b, yc_b) = disp(b, s.x)
+        # relative lateral displacement delta = d_b - d_a, relative yaw theta = th_b - th_a
+        dcoef = {(ib, 0): ly_b, (ib, 1): lp_b, (ia, 0): -ly_a, (ia, 1): -lp_a}
+        dconst = lc_b - lc_a
+        tcoef = {(ib, 1): yp_b, (ia, 1): -yp_a}
+        tconst = yc_b - yc_a
+        # body b: force -k delta, moment (X - x_b)(-k delta) - k_yaw theta; body a: opposite
+        for body, sgn in ((ib, -1.0), (ia, 1.0)):
+            lever = s.x - bodies[body].x
+            for (j, c), v in dcoef.items():
+                A[2 * body, 2 * j + c] += sgn * s.k_lat * v
+                A[2 * body + 1, 2 * j + c] += sgn * s.k_lat * lever * v
+            for (j, c), v in tcoef.items():
+                A[2 * body + 1, 2 * j + c] += sgn * s.k_yaw * v
+            rhs[2 * body] -= sgn * s.k_lat * dconst
+            rhs[2 * body + 1] -= sgn * (s.k_lat * lever * dconst + s.k_yaw * tconst)
+    u = np.linalg.solve(A, rhs)
+    return {b.name: (float(u[2 * i]), float(u[2 * i + 1])) for i, b in enumerate(bodies)}
+
+
+def tgv_planar_model(vehicle: bool) -> tuple[list[PlanarBody], list[PlanarSpring]]:
+    """The TGV 001 bogie (bogie centre at 0) or complete vehicle (car body centre at 0) for
+    ``steady_curving``, from TGV_BOGIE / TGV_VEHICLE."""
+    p, q = TGV_BOGIE, TGV_VEHICLE
+    centres = (q["pivot"], -q["pivot"]) if vehicle else (0.0,)
+    bodies, springs = [], []
+    k = 0
+    for j, xc in enumerate(centres, start=1):
+        bodies.append(PlanarBody(f"bogie{j}", xc, p["m_b"]))
+        for dx in (p["l"], -p["l"]):
+            k += 1
+            bodies.append(PlanarBody(f"ws{k}", xc + dx, p["m_w"], wheelset=True))
+            springs.append(PlanarSpring(f"bogie{j}", f"ws{k}", xc + dx, 2 * p["ky"], 2 * p["kx"] * p["dp"] ** 2))
+        if vehicle:
+            springs.append(PlanarSpring("car", f"bogie{j}", xc, 2 * q["ky_s"], 2 * q["kx_s"] * q["ds"] ** 2))
+    if vehicle:
+        bodies.append(PlanarBody("car", 0.0, q["m_c"]))
+    return bodies, springs
+
+
+def steady_curving_bogie(f11: float, f22: float, radius: float, a_q: float, p: dict | None = None) -> dict:
+    """``steady_curving`` of the TGV bogie (or the bogie data ``p``): y1, psi1, y2, psi2, yb, psib."""
+    saved = dict(TGV_BOGIE)
+    try:
+        if p is not None:
+            TGV_BOGIE.update(p)
+        bodies, springs = tgv_planar_model(False)
+        s = steady_curving(bodies, springs, f11, f22, radius, a_q, TGV_BOGIE["r0"], TGV_BOGIE["e0"],
+                           TGV_BOGIE["lam"])
+    finally:
+        TGV_BOGIE.clear()
+        TGV_BOGIE.update(saved)
+    return dict(y1=s["ws1"][0], psi1=s["ws1"][1], y2=s["ws2"][0], psi2=s["ws2"][1],
+                yb=s["bogie1"][0], psib=s["bogie1"][1])
 
 
 def _identify_creep_coefficients(ctx: Context, row: dict, wheelsets: Sequence[str]) -> tuple[float, float]:
@@ -920,26 +981,27 @@ TGV_CURVE = dict(radius=1000.0, cant=0.050, cant_base=1.5)
 
 
 def _kind_linear_curving(ctx, row):
-    f11, f22 = _identify_creep_coefficients(ctx, row, ("w1", "w2"))
+    vehicle = row["channel"] == "vehicle"
+    nws = 4 if vehicle else 2
+    f11, f22 = _identify_creep_coefficients(ctx, row, [f"w{k}" for k in range(1, nws + 1)])
     V = ctx.speed()
     phi = math.asin(TGV_CURVE["cant"] / TGV_CURVE["cant_base"])
     a_q = V ** 2 / TGV_CURVE["radius"] * math.cos(phi) - standard_gravity() * math.sin(phi)
-    ref = steady_curving_bogie(f11, f22, TGV_CURVE["radius"], a_q)
+    bodies, springs = tgv_planar_model(vehicle)
+    model = steady_curving(bodies, springs, f11, f22, TGV_CURVE["radius"], a_q, TGV_BOGIE["r0"],
+                           TGV_BOGIE["e0"], TGV_BOGIE["lam"])
     thr = float(row["threshold"])
-    got = {}
-    for k in (1, 2):
-        for comp, key in (("y", f"y{k}"), ("yaw", f"psi{k}")):
-            _, v = _window(ctx, row, f"bodies/ws{k}/position_track:{comp}")
-            got[key] = float(np.mean(v))
-    scale_y = max(abs(ref["y1"]), abs(ref["y2"]))
-    scale_p = max(abs(ref["psi1"]), abs(ref["psi2"]))
-    for key, scale, floor, unit in (("y1", scale_y, 5e-5, "m"), ("y2", scale_y, 5e-5, "m"),
-                                    ("psi1", scale_p, 2e-5, "rad"), ("psi2", scale_p, 2e-5, "rad")):
-        err = abs(got[key] - ref[key])
-        allowed = thr * scale + floor
-        ctx.check(f"{row['id']}:{key}", err <= allowed, got[key], f"{ref[key]:.4g} +- {allowed:.2g}", unit,
-                  f"linear steady-curving model with the run's own f11 = {f11:.4g} N, f22 = {f22:.4g} N, "
-                  f"a_q = {a_q:.4g} m/s^2; {row['justification']}")
+    ws = [f"ws{k}" for k in range(1, nws + 1)]
+    scale_y = max(abs(model[w][0]) for w in ws)
+    scale_p = max(abs(model[w][1]) for w in ws)
+    for w in ws:
+        for comp, col, scale, floor, unit in (("y", 0, scale_y, 5e-5, "m"), ("yaw", 1, scale_p, 2e-5, "rad")):
+            _, v = _window(ctx, row, f"bodies/{w}/position_track:{comp}")
+            got, ref = float(np.mean(v)), model[w][col]
+            allowed = thr * scale + floor
+            ctx.check(f"{row['id']}:{w} {comp}", abs(got - ref) <= allowed, got, f"{ref:.4g} +- {allowed:.2g}",
+                      unit, f"linear steady-curving model with the run's own f11 = {f11:.4g} N, "
+                      f"f22 = {f22:.4g} N, a_q = {a_q:.4g} m/s^2; {row['justification']}")
 
 
 def standard_gravity() -> float:
