@@ -14,6 +14,8 @@
 !> - spin (lambda = 0.2): phi = (+-(V/r0) sin(gamma) + psidot cos(gamma)) / V_ref with
 !>   V_ref = V +- psidot e0 / 2 (rd_creepage's reference speed: the mean of forward and
 !>   circumferential speeds); the thesis' phi = -sin(gamma)/r has the opposite sign convention.
+!> - flange stop of the knife-edge model (clearance 8 mm, 1e7 N/m): at y = 10 mm the left
+!>   wheel gets a patch with N = k (y - c) along -Y_T, no creep force, and Y/Q > 0.
 !> The wheelset is placed at rigid contact (rd_rigid_contact) lowered by 1 um, so the
 !> half-approach correction of the contact radius (1e-6 relative) is negligible.
 program test_wheelset_creepage
@@ -26,7 +28,7 @@ program test_wheelset_creepage
   use wheelset_test_support, only: circle_track_t, check, failures, pose_kinematics, rel_err
   implicit none
   real(wp), parameter :: r0 = 0.46_wp, v = 20.0_wp, lambda = 0.2_wp, lowering = 1.0e-6_wp
-  type(wheelset_contact_spec_t) :: spec, spec2
+  type(wheelset_contact_spec_t) :: spec, spec2, spec3
   type(wheelset_contact_t) :: ws
   type(error_t), allocatable :: error
   type(circle_track_t) :: straight
@@ -43,7 +45,11 @@ program test_wheelset_creepage
   spec2 = spec
   spec2%body = 2
   spec2%knife_conicity = 0.02_wp
-  call ws%init([spec, spec2], 2, error)
+  spec3 = spec
+  spec3%body = 3
+  spec3%knife_flange_clearance = 8.0e-3_wp
+  spec3%knife_flange_stiffness = 1.0e7_wp
+  call ws%init([spec, spec2, spec3], 3, error)
   if (allocated(error)) error stop error%message
   g = atan(lambda)
 
@@ -90,6 +96,21 @@ program test_wheelset_creepage
                  'phi right = ((V/r0) sin(gamma) + psidot cos(gamma)) / V_ref')
     end associate
   end do
+  ! 4. flange stop
+  y = 10.0e-3_wp; psi = 0
+  call place(3, y, psi, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, v / r0])
+  associate (wl => ws%results(3)%wheel(1), wr => ws%results(3)%wheel(2))
+    write (*, '(a,2i3,a,es12.4,a,3es12.4)') 'flange stop: patches ', wl%n_patches, wr%n_patches, '; N ', &
+      wl%patch(2)%normal_force, '; left wheel force (track) ', wl%force_track
+    call check(wl%n_patches == 2 .and. wr%n_patches == 1 .and. wl%patch(2)%kind == 4, 'flange stop: second patch on the left wheel only')
+    call check(rel_err(wl%patch(2)%normal_force, 1.0e7_wp * (y - 8.0e-3_wp)) < 1.0e-12_wp .and. wl%patch(2)%fx == 0 &
+               .and. wl%patch(2)%fy == 0, 'flange stop: N = k (y - clearance), no creep force')
+    call check(abs(wl%force_track(2) - (wl%patch(1)%normal_force * sin(wl%patch(1)%contact_angle) &
+               + wl%patch(1)%fy * cos(wl%patch(1)%contact_angle) - 2.0e4_wp)) < 1.0e-6_wp * 2.0e4_wp, &
+               'flange stop: pushes the left wheel to -Y')
+    call check(wl%y_over_q > 0 .and. ws%results(3)%derailment_quotient == wl%y_over_q, &
+               'flange contact on the left wheel: Y/Q > 0 and it is the derailment quotient')
+  end associate
   if (failures > 0) error stop 1
 
 contains

@@ -40,7 +40,7 @@ program test_wheelset_dynamics
   real(wp) :: z0, l_ref, l_sim, y_ref, y_end
   real(wp), allocatable :: hist(:)
   integer :: i, ncross
-  real(wp) :: tcross(64), yprev
+  real(wp) :: tcross(64)
 
   spec%body = 1
   spec%model = 'knife_edge'

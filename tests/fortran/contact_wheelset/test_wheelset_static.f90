@@ -20,6 +20,7 @@ program test_wheelset_static
   use rd_body_kinematics, only: body_kinematics_t
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_wheelset_contact, only: wheelset_contact_t
+  use rd_rigid_contact, only: rigid_contact
   use rd_wheel_contact_result, only: wheelset_result_t
   use wheelset_test_support, only: circle_track_t, check, failures, pose_kinematics, rel_err
   implicit none
@@ -128,6 +129,21 @@ contains
     b = ws%results(1)
     call check_mirror('left curve vs right curve')
     call check(abs(a%force(2)) > 1.0e-3_wp * weight, model // ': the asymmetric case has a lateral force (test can fail)')
+
+    ! flange contact sign (conventions.md): shifted 8 mm to the left, rigid contact lowered
+    ! 20 um, the left flange touches with gamma < 0, is pushed to -Y, and Y/Q_left > 0
+    if (model == 'profile') then
+      call rigid_contact(ws%models(1)%geo, 8.0e-3_wp, 0.0_wp, zlo, zhi, error)
+      if (allocated(error)) error stop error%message
+      call eval(straight, [0.0_wp, 8.0e-3_wp, zlo - 2.0e-5_wp, 0.0_wp, zhi, 0.0_wp], [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, omega], f, m)
+      associate (wl => ws%results(1)%wheel(1), wr => ws%results(1)%wheel(2))
+        write (*, '(a,i2,a,4f9.4)') 'left flange: patches', wl%n_patches, '; gamma, Y/Q left, right, quotient ', &
+          minval(wl%patch(1:wl%n_patches)%contact_angle), wl%y_over_q, wr%y_over_q, ws%results(1)%derailment_quotient
+        call check(minval(wl%patch(1:wl%n_patches)%contact_angle) < -0.5_wp .and. wl%force_track(2) < 0 &
+                   .and. wl%y_over_q > 0.3_wp .and. wr%y_over_q < 0.3_wp .and. ws%results(1)%derailment_quotient == wl%y_over_q, &
+                   model // ': left flange contact: gamma < 0, Y_left < 0, Y/Q_left > 0 is the derailment quotient')
+      end associate
+    end if
   end subroutine run_model
 
     subroutine eval(track, q, qd, f, m)
