@@ -32,10 +32,8 @@ import hashlib
 import math
 import os
 import re
-import shutil
 import subprocess
 import sys
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -976,6 +974,9 @@ def _identify_creep_coefficients(ctx: Context, row: dict, wheelsets: Sequence[st
     return float(-np.dot(dfx, dxi) / np.dot(dxi, dxi)), float(-np.dot(sfy, seta) / np.dot(seta, seta))
 
 
+#: Gravity of the decks (&simulation gravity default = rd_kinds standard_gravity) [m/s^2].
+STANDARD_GRAVITY = 9.80665
+
 #: Designed track curve (inputs/tracks/tgv_designed_track.nml): radius, cant, cant base.
 TGV_CURVE = dict(radius=1000.0, cant=0.050, cant_base=1.5)
 
@@ -986,7 +987,7 @@ def _kind_linear_curving(ctx, row):
     f11, f22 = _identify_creep_coefficients(ctx, row, [f"w{k}" for k in range(1, nws + 1)])
     V = ctx.speed()
     phi = math.asin(TGV_CURVE["cant"] / TGV_CURVE["cant_base"])
-    a_q = V ** 2 / TGV_CURVE["radius"] * math.cos(phi) - standard_gravity() * math.sin(phi)
+    a_q = V ** 2 / TGV_CURVE["radius"] * math.cos(phi) - STANDARD_GRAVITY * math.sin(phi)
     bodies, springs = tgv_planar_model(vehicle)
     model = steady_curving(bodies, springs, f11, f22, TGV_CURVE["radius"], a_q, TGV_BOGIE["r0"],
                            TGV_BOGIE["e0"], TGV_BOGIE["lam"])
@@ -1002,10 +1003,6 @@ def _kind_linear_curving(ctx, row):
             ctx.check(f"{row['id']}:{w} {comp}", abs(got - ref) <= allowed, got, f"{ref:.4g} +- {allowed:.2g}",
                       unit, f"linear steady-curving model with the run's own f11 = {f11:.4g} N, "
                       f"f22 = {f22:.4g} N, a_q = {a_q:.4g} m/s^2; {row['justification']}")
-
-
-def standard_gravity() -> float:
-    return 9.80665
 
 
 CHECK_KINDS: dict[str, Callable] = {
@@ -1048,6 +1045,11 @@ def critical_speed_bisection(ctx: Context, row: dict) -> float:
     def rate_at(v: float) -> float:
         res = ctx.run_variant(f"v{v:.3f}", f"&simulation speed = {v:.6g}, t_end = {CRITICAL_SPEED_T_END:g} /")
         with res:
+            missing = [w for w in deck_wheelsets(ctx.case.deck_path)
+                       if f"wheelsets/{w}/left/force_track" not in res]
+            if missing:
+                raise CaseError(f"speed {v:g} m/s: no wheel forces of {', '.join(missing)}: the scene "
+                                "ran without wheel-rail contact (contact not wired)")
             t = ctx.time(res)
             y = ctx.get(row["channel"], res)
             m = window_mask(t, float(row["t_from"]), float(row["t_to"]))

@@ -4,6 +4,7 @@ balances, envelope growth rates and wavelengths against closed forms, band curve
 deck assumptions, and whole cases evaluated end to end on synthetic results (pass and fail)."""
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -471,3 +472,29 @@ def test_vehicle_model_reduces_to_two_bogies():
     # the secondary yaw stiffness turns the two bogies oppositely relative to their track
     # frames (car yaw -+ 9.35/R): the leading wheelsets differ by several per cent, not more
     assert s["ws1"][0] == pytest.approx(s["ws3"][0], rel=0.10) and s["ws1"][0] != s["ws3"][0]
+
+
+def test_critical_speed_bisection_on_synthetic_runs(tmp_path, monkeypatch, make_results_file):
+    """The bisection with a stand-in for the runner: growth rate (v - 31.3)/10 1/s; the result
+    must bracket 31.3 m/s within the 1 m/s resolution, and runs without wheel forces fail."""
+    out = tmp_path / "out"
+    out.mkdir()
+    speeds = []
+
+    def fake_run(deck, results, exe=None, overrides="", timeout=0, reuse=False):
+        v = float(re.search(r"speed = ([0-9.eE+-]+)", overrides).group(1))
+        speeds.append(v)
+        t = np.arange(0.0, 8.0 + 1e-9, 0.005)
+        y = 1e-3 * np.exp((v - 31.3) / 10 * t) * np.sin(2 * np.pi * v / 25.0 * t)
+        series = {"vehicle/speed": (np.full((len(t), 1), v), "m/s", "V", "speed"),
+                  "bodies/ws1/position_track": (_tgv_series(t, y), "m m m rad rad rad", "x y z yaw roll pitch", "p")}
+        _wheel_forces(series, len(t), (1, 2))
+        make_results_file(Path(results).relative_to(tmp_path), t, series, meta_attrs={"status": "completed"})
+        return V.RunInfo(Path(results), 0, 0.0, "")
+
+    monkeypatch.setattr(V, "run_deck", fake_run)
+    res = V.run_case("tgv_bogie_critical_speed", out)
+    assert res.passed, res.summary()
+    vc = res.checks[0].value
+    assert abs(vc - 31.3) <= 0.5 and speeds[:2] == [20.0, 40.0] and len(speeds) == 2 + 5
+    assert res.tables and "Critical speed search" in res.tables[0].title
