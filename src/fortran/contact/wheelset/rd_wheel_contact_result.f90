@@ -30,6 +30,11 @@ module rd_wheel_contact_result
     real(wp) :: rolling_radius = 0      !< [m]
     real(wp) :: a = 0, b = 0            !< Hertz semi-axes, rolling / lateral [m]
     integer :: hertz_warning = 0        !< rd_hertz HERTZ_WARN_* bits
+    ! fixed-frame vectors of the last evaluation (for checks and the generalized forces;
+    ! not output channels)
+    real(wp) :: force_fixed(3) = 0      !< N n + Fx x_c + Fy y_c on the wheel [N]
+    real(wp) :: normal_fixed(3) = 0     !< n [-]
+    real(wp) :: lever_fixed(3) = 0      !< wheel material point at the patch minus the CG [m]
   end type patch_result_t
 
   type :: wheel_result_t

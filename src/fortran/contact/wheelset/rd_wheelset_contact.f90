@@ -278,6 +278,9 @@ contains
         o%rolling_radius = p%rolling_radius
         o%a = hp%a; o%b = hp%b
         o%hertz_warning = hp%warning
+        o%force_fixed = f
+        o%normal_fixed = n
+        o%lever_fixed = r_c
       end associate
     end do
     do k = wc%n_patches + 1, size(out%patch)
