@@ -16,6 +16,9 @@
 !>   circumferential speeds); the thesis' phi = -sin(gamma)/r has the opposite sign convention.
 !> - flange stop of the knife-edge model (clearance 8 mm, 1e7 N/m): at y = 10 mm the left
 !>   wheel gets a patch with N = k (y - c) along -Y_T, no creep force, and Y/Q > 0.
+!> - contact damping (1e5 N s/m): moving down at 0.01 m/s adds c 0.01 cos(gamma) to N (the
+!>   approach rate is the wheel point's velocity towards the rail along n); moving up fast
+!>   the force is clipped at 0 (no adhesion).
 !> The wheelset is placed at rigid contact (rd_rigid_contact) lowered by 1 um, so the
 !> half-approach correction of the contact radius (1e-6 relative) is negligible.
 program test_wheelset_creepage
@@ -28,7 +31,8 @@ program test_wheelset_creepage
   use wheelset_test_support, only: circle_track_t, check, failures, pose_kinematics, rel_err
   implicit none
   real(wp), parameter :: r0 = 0.46_wp, v = 20.0_wp, lambda = 0.2_wp, lowering = 1.0e-6_wp
-  type(wheelset_contact_spec_t) :: spec, spec2, spec3
+  type(wheelset_contact_spec_t) :: spec, spec2, spec3, spec4
+  real(wp) :: n_static
   type(wheelset_contact_t) :: ws
   type(error_t), allocatable :: error
   type(circle_track_t) :: straight
@@ -49,7 +53,10 @@ program test_wheelset_creepage
   spec3%body = 3
   spec3%knife_flange_clearance = 8.0e-3_wp
   spec3%knife_flange_stiffness = 1.0e7_wp
-  call ws%init([spec, spec2, spec3], 3, error)
+  spec4 = spec
+  spec4%body = 4
+  spec4%contact_damping = 1.0e5_wp
+  call ws%init([spec, spec2, spec3, spec4], 4, error)
   if (allocated(error)) error stop error%message
   g = atan(lambda)
 
@@ -111,6 +118,19 @@ program test_wheelset_creepage
     call check(wl%y_over_q > 0 .and. ws%results(3)%derailment_quotient == wl%y_over_q, &
                'flange contact on the left wheel: Y/Q > 0 and it is the derailment quotient')
   end associate
+
+  ! 5. contact damping
+  call place(4, 0.0_wp, 0.0_wp, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, v / r0])
+  n_static = ws%results(4)%wheel(1)%patch(1)%normal_force
+  call place(4, 0.0_wp, 0.0_wp, [0.0_wp, 0.0_wp, -0.01_wp, 0.0_wp, 0.0_wp, v / r0])
+  associate (p => ws%results(4)%wheel(1)%patch(1))
+    write (*, '(a,2es13.5)') 'damping: N static, N moving down 0.01 m/s ', n_static, p%normal_force
+    call check(abs(p%normal_force - (n_static + 1.0e5_wp * 0.01_wp * cos(g))) < 1.0e-9_wp * p%normal_force, &
+               'damping: N = N_el + c d(delta)/dt, d(delta)/dt = 0.01 cos(gamma)')
+  end associate
+  call place(4, 0.0_wp, 0.0_wp, [0.0_wp, 0.0_wp, 0.5_wp, 0.0_wp, 0.0_wp, v / r0])
+  call check(ws%results(4)%wheel(1)%patch(1)%normal_force == 0 .and. ws%results(4)%wheel(1)%patch(1)%fx == 0, &
+             'damping: separating fast, N = 0 (no adhesion) and no creep force')
   if (failures > 0) error stop 1
 
 contains
