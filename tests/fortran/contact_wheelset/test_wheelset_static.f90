@@ -21,7 +21,8 @@ program test_wheelset_static
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_wheelset_contact, only: wheelset_contact_t
   use rd_rigid_contact, only: rigid_contact
-  use rd_wheel_contact_result, only: wheelset_result_t
+  use rd_wheel_contact_result, only: wheelset_result_t, N_PATCH_CHANNELS, N_WHEEL_CHANNELS, patch_channel_names, &
+    wheel_channel_names, patch_channel_values, wheel_channel_values
   use wheelset_test_support, only: circle_track_t, check, failures, pose_kinematics, rel_err
   implicit none
   real(wp), parameter :: r0 = 0.46_wp, v = 20.0_wp, mass = 1813.0_wp
@@ -33,7 +34,7 @@ program test_wheelset_static
   type(circle_track_t) :: straight, left_curve, right_curve
   type(body_kinematics_t) :: kin
   real(wp) :: weight, zlo, zhi, z, f(3), m(3), fm(3), mm(3), rho, omega, vref, xi_ref, g, d, r
-  real(wp) :: q(6), qd(6)
+  real(wp) :: q(6), qd(6), pch(N_PATCH_CHANNELS), wch(N_WHEEL_CHANNELS)
   type(wheelset_result_t) :: a, b
   integer :: it, side
   character(len=:), allocatable :: model
@@ -95,6 +96,19 @@ contains
       call check(abs(res%guiding_force_sum) < 1.0e-9_wp * weight, model // ': Y_left + Y_right = 0')
       call check(wl%patch(1)%contact_angle < 0 .and. wr%patch(1)%contact_angle > 0, &
                  model // ': contact angles: left < 0, right > 0 (rails lean inwards)')
+      ! output channels: names and values line up
+      call patch_channel_values(wl, 1, pch)
+      call wheel_channel_values(wr, wch)
+      call check(size(patch_channel_names) == N_PATCH_CHANNELS .and. size(wheel_channel_names) == N_WHEEL_CHANNELS &
+                 .and. pch(findloc(patch_channel_names, 'normal_force', 1)) == wl%patch(1)%normal_force &
+                 .and. pch(findloc(patch_channel_names, 'spin', 1)) == wl%patch(1)%spin &
+                 .and. pch(findloc(patch_channel_names, 'rail_point_y', 1)) == wl%patch(1)%point_rail(2) &
+                 .and. pch(findloc(patch_channel_names, 'semi_axis_b', 1)) == wl%patch(1)%b &
+                 .and. wch(findloc(wheel_channel_names, 'force_vertical_Q', 1)) == wr%force_track(3) &
+                 .and. wch(findloc(wheel_channel_names, 'Y_over_Q', 1)) == wr%y_over_q, &
+                 model // ': output channels match their names')
+      call patch_channel_values(wl, 2, pch)
+      call check(all(pch == 0), model // ': empty patch slot outputs zeros')
       do side = 1, 2
         associate (p => ws%results(1)%wheel(side)%patch(1))
           g = p%contact_angle; d = p%penetration; r = p%rolling_radius
