@@ -260,7 +260,7 @@ def window_mean(t: np.ndarray, y: np.ndarray, t_from: float, t_to: float) -> flo
     return float(np.mean(y[m]))
 
 
-def half_cycle_peaks(t: np.ndarray, y: np.ndarray, floor: float = 1e-9) -> tuple[np.ndarray, np.ndarray]:
+def half_cycle_peaks(t: np.ndarray, y: np.ndarray, floor: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Peaks of |y| in each half cycle: the largest |y| between consecutive sign changes of y
     (the first and last, incomplete half cycles are dropped). Peaks below ``floor`` are
     dropped (numerical noise once the motion has died out)."""
@@ -280,7 +280,12 @@ def half_cycle_peaks(t: np.ndarray, y: np.ndarray, floor: float = 1e-9) -> tuple
     return np.array(tp), np.array(ap)
 
 
-def growth_rate(t: np.ndarray, y: np.ndarray, floor: float = 1e-9) -> tuple[float, int]:
+#: Peaks below this [m] are not used for growth rates: 10 x the decks' absolute solver
+#: tolerance (atol = 1e-8 in state units), below which the integrator's error dominates.
+GROWTH_FLOOR = 1e-7
+
+
+def growth_rate(t: np.ndarray, y: np.ndarray, floor: float = GROWTH_FLOOR) -> tuple[float, int]:
     """Exponential growth rate of the oscillation envelope [1/s] (negative: decay): slope of
     the least-squares line through ln(peak) against peak time (the logarithmic decrement per
     half cycle divided by the half period). Without 3 peaks (over-damped motion) the rate
@@ -934,6 +939,70 @@ def tgv_planar_model(vehicle: bool) -> tuple[list[PlanarBody], list[PlanarSpring
     return bodies, springs
 
 
+#: Yaw inertias [kg m2] of the TGV 001 bodies (tables 5.1, 5.8), for the linear stability model.
+TGV_YAW_INERTIA = dict(wheelset=799.35, bogie=4063.712, car=2.43e6)
+#: TGV secondary lateral damping per spring [N s/m] (table 5.6).
+TGV_SECONDARY_CY = 3.5e4
+
+
+def lateral_stability(vehicle: bool, f11: float, f22: float, speed: float) -> complex:
+    """Least-damped eigenvalue [1/s] of the linear lateral/yaw dynamics of the TGV bogie or
+    vehicle on straight track (the classical linear model of Wickens 1965 / Iwnicki's handbook
+    ch. 7, with the bodies and springs of ``tgv_planar_model``): per wheelset
+    m y'' = -2 f22 (y'/V - psi) + springs, Iz psi'' = -2 f11 e0 (e0 psi'/V + lam y/r0) + springs;
+    springs between attachment points (lateral k at lever X - x_b, yaw k), secondary lateral
+    dampers. Neglected: gyroscopic yaw-roll coupling, spin creep, gravitational stiffness (zero
+    for cones), roll. Real part > 0: the motion grows (hunting)."""
+    p = TGV_BOGIE
+    bodies, springs = tgv_planar_model(vehicle)
+    n = 2 * len(bodies)
+    M, C, K = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
+    idx = {b.name: i for i, b in enumerate(bodies)}
+    for i, b in enumerate(bodies):
+        M[2 * i, 2 * i] = b.mass
+        kind = "wheelset" if b.wheelset else ("car" if b.name == "car" else "bogie")
+        M[2 * i + 1, 2 * i + 1] = TGV_YAW_INERTIA[kind]
+        if b.wheelset:
+            C[2 * i, 2 * i] += 2 * f22 / speed
+            K[2 * i, 2 * i + 1] += -2 * f22
+            C[2 * i + 1, 2 * i + 1] += 2 * f11 * p["e0"] ** 2 / speed
+            K[2 * i + 1, 2 * i] += 2 * f11 * p["e0"] * p["lam"] / p["r0"]
+    for s in springs:
+        ia, ib = idx[s.body_a], idx[s.body_b]
+        d = np.zeros(n)      # relative lateral displacement at the attachment: d . q
+        d[2 * ib], d[2 * ib + 1] = 1.0, s.x - bodies[ib].x
+        d[2 * ia], d[2 * ia + 1] = -1.0, -(s.x - bodies[ia].x)
+        r = np.zeros(n)      # relative yaw
+        r[2 * ib + 1], r[2 * ia + 1] = 1.0, -1.0
+        K += s.k_lat * np.outer(d, d) + s.k_yaw * np.outer(r, r)
+        if s.body_a == "car":
+            C += 2 * TGV_SECONDARY_CY * np.outer(d, d)
+    Minv = np.linalg.inv(M)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ K, -Minv @ C]])
+    ev = np.linalg.eigvals(A)
+    return complex(ev[int(np.argmax(ev.real))])
+
+
+def linear_critical_speed(vehicle: bool, f11: float, f22: float, lo: float = 1.0, hi: float = 300.0) -> float:
+    """Lowest speed [m/s] at which ``lateral_stability`` turns unstable (scan, then bisection
+    to 0.01 m/s); inf if stable up to ``hi``."""
+    grid = np.linspace(lo, hi, 300)
+    unstable = [v for v in grid if lateral_stability(vehicle, f11, f22, v).real > 0]
+    if not unstable:
+        return math.inf
+    b = unstable[0]
+    a = grid[max(int(np.searchsorted(grid, b)) - 1, 0)]
+    if lateral_stability(vehicle, f11, f22, a).real > 0:
+        return float(a)
+    while b - a > 0.01:
+        m = 0.5 * (a + b)
+        if lateral_stability(vehicle, f11, f22, m).real > 0:
+            b = m
+        else:
+            a = m
+    return 0.5 * (a + b)
+
+
 def steady_curving_bogie(f11: float, f22: float, radius: float, a_q: float, p: dict | None = None) -> dict:
     """``steady_curving`` of the TGV bogie (or the bogie data ``p``): y1, psi1, y2, psi2, yb, psib."""
     saved = dict(TGV_BOGIE)
@@ -981,6 +1050,55 @@ STANDARD_GRAVITY = 9.80665
 TGV_CURVE = dict(radius=1000.0, cant=0.050, cant_base=1.5)
 
 
+def identify_creep_series(ctx: Context, wheelsets: Sequence[str], t_from: float,
+                          results: Results | None = None) -> tuple[float, float]:
+    """f11, f22 [N] by least squares over the samples after t_from of every wheelset:
+    (Fx_R - Fx_L) = -f11 (xi_R - xi_L) and (Fy_L + Fy_R) = -f22 (eta_L + eta_R) (the spin forces
+    of a cone's two wheels cancel in the sum)."""
+    t = ctx.time(results)
+    m = t >= t_from
+    dx, df, se, sf = [], [], [], []
+    for w in wheelsets:
+        v = {}
+        for side in ("left", "right"):
+            base = f"wheelsets/{w}/{side}/contact1"
+            v[side] = (ctx.get(f"{base}/creepage:xi", results)[m], ctx.get(f"{base}/creepage:eta", results)[m],
+                       ctx.get(f"{base}/creep_force_contact:fx", results)[m],
+                       ctx.get(f"{base}/creep_force_contact:fy", results)[m])
+        dx.append(v["right"][0] - v["left"][0])
+        df.append(v["right"][2] - v["left"][2])
+        se.append(v["right"][1] + v["left"][1])
+        sf.append(v["right"][3] + v["left"][3])
+    dx, df, se, sf = (np.concatenate(x) for x in (dx, df, se, sf))
+    if not (np.dot(dx, dx) > 0 and np.dot(se, se) > 0):
+        raise CaseError("zero creepages: cannot identify the creep coefficients")
+    return float(-np.dot(df, dx) / np.dot(dx, dx)), float(-np.dot(sf, se) / np.dot(se, se))
+
+
+def _kind_linear_stability(ctx, row, what: str):
+    """what = 'rate' (growth rate vs the model's least-damped eigenvalue) or 'wavelength'."""
+    vehicle = row["channel"] == "vehicle"
+    nws = 4 if vehicle else 2
+    t0, t1 = float(row["t_from"]), float(row["t_to"])
+    f11, f22 = identify_creep_series(ctx, [f"w{k}" for k in range(1, nws + 1)], t0)
+    V = ctx.speed()
+    ev = lateral_stability(vehicle, f11, f22, V)
+    t, y = _window(ctx, row, "bodies/ws1/position_track:y")
+    thr = float(row["threshold"])
+    info = f"linear model with the run's own f11 = {f11:.4g} N, f22 = {f22:.4g} N at {V:g} m/s"
+    if what == "rate":
+        rate, npk = growth_rate(t, y)
+        allowed = thr * abs(ev.real) + 0.1
+        ctx.check(row["id"], abs(rate - ev.real) <= allowed, rate, f"{ev.real:.4g} +- {allowed:.2g}", "1/s",
+                  f"{info}; {npk} peaks; {row['justification']}")
+    else:
+        lam_model = V * 2 * math.pi / abs(ev.imag)
+        lam = oscillation_wavelength(t, y, V)
+        allowed = thr * lam_model
+        ctx.check(row["id"], abs(lam - lam_model) <= allowed, lam, f"{lam_model:.4g} +- {allowed:.2g}", "m",
+                  f"{info}; {row['justification']}")
+
+
 def _kind_linear_curving(ctx, row):
     vehicle = row["channel"] == "vehicle"
     nws = 4 if vehicle else 2
@@ -1007,6 +1125,9 @@ def _kind_linear_curving(ctx, row):
 
 CHECK_KINDS: dict[str, Callable] = {
     "linear_steady_curving": _kind_linear_curving,
+    "linear_growth_rate": lambda c, r: _kind_linear_stability(c, r, "rate"),
+    "linear_wavelength": lambda c, r: _kind_linear_stability(c, r, "wavelength"),
+    "linear_critical_speed": lambda c, r: _kind_linear_critical_speed(c, r),
     "growth_rate_below": lambda c, r: _kind_growth(c, r, False),
     "growth_rate_above": lambda c, r: _kind_growth(c, r, True),
     "amplitude_below": lambda c, r: _kind_amplitude(c, r, False),
@@ -1035,6 +1156,22 @@ CRITICAL_SPEED_RESOLUTION = 1.0
 CRITICAL_SPEED_T_END = 8.0
 
 
+def _kind_linear_critical_speed(ctx, row):
+    if "critical_speed" not in ctx.cache:
+        ctx.cache["critical_speed"] = critical_speed_bisection(ctx, row)
+    vc = ctx.cache["critical_speed"]
+    if "creep_coefficients" not in ctx.cache:
+        raise CaseError("no probe run to identify the creep coefficients from")
+    f11, f22 = ctx.cache["creep_coefficients"]
+    vc_model = linear_critical_speed(False, f11, f22)
+    thr = float(row["threshold"])
+    allowed = thr * vc_model
+    ctx.check(row["id"], abs(vc - vc_model) <= allowed + CRITICAL_SPEED_RESOLUTION / 2, vc,
+              f"{vc_model:.4g} +- {allowed + CRITICAL_SPEED_RESOLUTION / 2:.2g}", "m/s",
+              f"linear model with f11 = {f11:.4g} N, f22 = {f22:.4g} N identified from the "
+              f"{ctx.cache['creep_coefficients_speed']:g} m/s probe; {row['justification']}")
+
+
 def critical_speed_bisection(ctx: Context, row: dict) -> float:
     """Bisection on the sign of the growth rate of wheelset 1's lateral motion between the
     bracket speeds; returns the midpoint of the final bracket. Each probe is a run of the bogie
@@ -1054,6 +1191,10 @@ def critical_speed_bisection(ctx: Context, row: dict) -> float:
             y = ctx.get(row["channel"], res)
             m = window_mask(t, float(row["t_from"]), float(row["t_to"]))
             rate, npk = growth_rate(t[m], y[m])
+            best = ctx.cache.get("creep_coefficients_speed", -1.0)
+            if v > best:      # identified at the fastest probe (largest creepages of the runs)
+                ctx.cache["creep_coefficients"] = identify_creep_series(ctx, ["w1", "w2"], float(row["t_from"]), res)
+                ctx.cache["creep_coefficients_speed"] = v
         rows.append([f"{v:.3f}", f"{rate:.4g}", npk, "growth" if rate > 0 else "decay"])
         return rate
 

@@ -173,6 +173,25 @@ def _wheel_forces(series, n, wheelsets):
     return series
 
 
+def _straight_contact(series, t, y, wheelsets, f11, f22):
+    """Contact outputs of a straight run consistent with creep coefficients f11, f22 (spin
+    forces opposite on the two wheels)."""
+    n = len(t)
+    yd = np.gradient(y, t)
+    for k in wheelsets:
+        for side, sg in (("left", -1.0), ("right", 1.0)):
+            xi = sg * 0.2 * y
+            eta = 0.05 * yd
+            spin = -sg * 0.2 * np.ones(n)
+            cr = np.column_stack([xi, eta, spin])
+            fc = np.column_stack([-f11 * xi, -f22 * eta - 3e4 * spin, np.zeros(n)])
+            base = f"wheelsets/w{k}/{side}"
+            series[f"{base}/force_track"] = (fc, "N", "fx fy fz", "f")
+            series[f"{base}/contact1/creepage"] = (cr, "1 1 1/m", "xi eta phi", "c")
+            series[f"{base}/contact1/creep_force_contact"] = (fc, "N N N*m", "fx fy mz", "c")
+    return series
+
+
 def _tgv_series(t, y):
     n = len(t)
     q = np.zeros((n, 6))
@@ -304,25 +323,31 @@ def test_manchester_case_window_not_reached(make_results_file, tmp_path):
     assert not res.passed and "quasi-static window" in res.error
 
 
-@pytest.mark.parametrize("sigma,expect", [(-0.6, True), (0.15, False)])
-def test_tgv_straight_case_end_to_end(make_results_file, tmp_path, sigma, expect):
-    """Synthetic bogie response: a decaying oscillation passes the 20 m/s checks, a growing
-    one fails them."""
+@pytest.mark.parametrize("stable", [True, False])
+def test_tgv_straight_case_end_to_end(make_results_file, tmp_path, stable):
+    """Synthetic bogie response at 20 m/s: the linear model's least-damped mode (for the
+    coefficients the contact outputs carry) passes every check; a growing oscillation fails."""
     out = tmp_path / "out"
     out.mkdir()
+    f11, f22 = 4.0e6, 3.6e6
+    ev = V.lateral_stability(False, f11, f22, 20.0)
+    assert ev.real < 0
+    sigma = ev.real if stable else 0.15
     t = np.arange(0.0, 15.0 + 1e-9, 0.005)
-    y = np.where(t > 0.1, 1e-3 * np.exp(sigma * t) * np.sin(2 * np.pi * 0.9 * (t - 0.1)), 0.0)
+    y = np.where(t > 0.1, 1e-3 * np.exp(sigma * t) * np.sin(abs(ev.imag) * (t - 0.1)), 0.0)
     series = {"vehicle/speed": (np.full((len(t), 1), 20.0), "m/s", "V", "speed"),
               "vehicle/distance": (100 + 20 * t[:, None], "m", "sigma", "sigma"),
               "bodies/ws1/position_track": (_tgv_series(t, y), "m m m rad rad rad", "x y z yaw roll pitch", "p"),
               "bodies/ws2/position_track": (_tgv_series(t, 0.8 * y), "m m m rad rad rad", "x y z yaw roll pitch", "p")}
-    _wheel_forces(series, len(t), (1, 2))
+    _straight_contact(series, t, y, (1, 2), f11, f22)
     make_results_file("out/tgv_bogie_straight_20.h5", t, series, meta_attrs={"status": "completed"})
     res = V.run_case("tgv_bogie_straight_20", out, reuse=True)
     assert res.error == ""
-    assert res.passed is expect, res.summary()
+    assert res.passed is stable, res.summary()
     rate = next(c for c in res.checks if c.name == "bogie20_decay_rate")
     assert rate.value == pytest.approx(sigma, abs=0.02)
+    lin = next(c for c in res.checks if c.name == "bogie20_linear_growth_rate")
+    assert "f11 = 4e+06 N, f22 = 3.6e+06 N" in lin.detail and lin.passed is stable
 
 
 def _curving_series(t, f11=9.0e6, f22=8.0e6, swap=False):
@@ -475,20 +500,24 @@ def test_vehicle_model_reduces_to_two_bogies():
 
 
 def test_critical_speed_bisection_on_synthetic_runs(tmp_path, monkeypatch, make_results_file):
-    """The bisection with a stand-in for the runner: growth rate (v - 31.3)/10 1/s; the result
-    must bracket 31.3 m/s within the 1 m/s resolution, and runs without wheel forces fail."""
+    """The bisection with a stand-in for the runner: growth rate (v - v0)/10 1/s with v0 the
+    linear model's critical speed for the coefficients the stand-in's contact outputs carry;
+    the bisection must bracket v0 within the 1 m/s resolution and agree with the model."""
     out = tmp_path / "out"
     out.mkdir()
     speeds = []
+    f11, f22 = 4.0e6, 3.6e6
+    v0 = V.linear_critical_speed(False, f11, f22)
+    assert 20.0 < v0 < 40.0
 
     def fake_run(deck, results, exe=None, overrides="", timeout=0, reuse=False):
         v = float(re.search(r"speed = ([0-9.eE+-]+)", overrides).group(1))
         speeds.append(v)
         t = np.arange(0.0, 8.0 + 1e-9, 0.005)
-        y = 1e-3 * np.exp((v - 31.3) / 10 * t) * np.sin(2 * np.pi * v / 25.0 * t)
+        y = 1e-3 * np.exp((v - v0) / 10 * t) * np.sin(2 * np.pi * v / 25.0 * t)
         series = {"vehicle/speed": (np.full((len(t), 1), v), "m/s", "V", "speed"),
                   "bodies/ws1/position_track": (_tgv_series(t, y), "m m m rad rad rad", "x y z yaw roll pitch", "p")}
-        _wheel_forces(series, len(t), (1, 2))
+        _straight_contact(series, t, y, (1, 2), f11, f22)
         make_results_file(Path(results).relative_to(tmp_path), t, series, meta_attrs={"status": "completed"})
         return V.RunInfo(Path(results), 0, 0.0, "")
 
@@ -496,5 +525,32 @@ def test_critical_speed_bisection_on_synthetic_runs(tmp_path, monkeypatch, make_
     res = V.run_case("tgv_bogie_critical_speed", out)
     assert res.passed, res.summary()
     vc = res.checks[0].value
-    assert abs(vc - 31.3) <= 0.5 and speeds[:2] == [20.0, 40.0] and len(speeds) == 2 + 5
+    assert abs(vc - v0) <= 0.5 and speeds[:2] == [20.0, 40.0] and len(speeds) == 2 + 5
+    lin = next(c for c in res.checks if c.name == "critical_speed_linear")
+    assert lin.passed and "identified from the 40 m/s probe" in lin.detail
     assert res.tables and "Critical speed search" in res.tables[0].title
+
+
+def test_lateral_stability_rigid_bogie_klingel():
+    """Stiff primary suspension and large creep coefficients: the bogie's least-damped mode is
+    the kinematic oscillation of a rigid two-axle bogie, wavelength
+    2 pi sqrt((r0 e0/lam)(1 + l^2/e0^2)) (Klingel; oracles.md), nearly undamped."""
+    p = V.TGV_BOGIE
+    saved = dict(p)
+    try:
+        p.update(kx=1e11, ky=1e11)
+        ev = V.lateral_stability(False, 1e9, 1e9, 40.0)
+    finally:
+        p.clear()
+        p.update(saved)
+    klingel = 2 * math.pi * math.sqrt(p["r0"] * p["e0"] / p["lam"] * (1 + p["l"] ** 2 / p["e0"] ** 2))
+    assert 40.0 * 2 * math.pi / abs(ev.imag) == pytest.approx(klingel, rel=1e-3)
+    assert abs(ev.real) < 0.01 * abs(ev.imag)
+
+
+def test_linear_critical_speed_is_the_stability_boundary():
+    f11, f22 = 4.0e6, 3.6e6
+    vc = V.linear_critical_speed(False, f11, f22)
+    assert V.lateral_stability(False, f11, f22, vc - 0.05).real < 0 < V.lateral_stability(False, f11, f22, vc + 0.05).real
+    # larger creep coefficients damp the wheelsets more: higher critical speed (Wickens)
+    assert V.linear_critical_speed(False, 2 * f11, 2 * f22) > vc
