@@ -896,17 +896,24 @@ def steady_curving(bodies: Sequence[PlanarBody], springs: Sequence[PlanarSpring]
         return (1.0, d, -kap * d * d / 2), (0.0, 1.0, -kap * d)
 
     for s in springs:
-        a, b = bodies[idx[s.body_a]], bodies[idx[s.body_b]]
-        ia, ib = idx[s.body_a], idx[s.body_b]
-        (ly_a, lp_a, lc_a), (_, yp_a, yc_a) = disp(a, s.x)
-        (ly_b, lp_b, lc_b), (_, yp_b, yc_b) = disp(b, s.x)
-        # relative lateral displacement delta = d_b - d_a, relative yaw theta = th_b - th_a
-        dcoef = {(ib, 0): ly_b, (ib, 1): lp_b, (ia, 0): -ly_a, (ia, 1): -lp_a}
-        dconst = lc_b - lc_a
-        tcoef = {(ib, 1): yp_b, (ia, 1): -yp_a}
-        tconst = yc_b - yc_a
+        ib = idx[s.body_b]
+        (ly_b, lp_b, lc_b), (_, yp_b, yc_b) = disp(bodies[ib], s.x)
+        # relative lateral displacement delta = d_b - d_a, relative yaw theta = th_b - th_a;
+        # 'ground' is body b's own track frame (conventions.md), fixed: d_a = th_a = 0
+        dcoef = {(ib, 0): ly_b, (ib, 1): lp_b}
+        tcoef = {(ib, 1): yp_b}
+        dconst, tconst = lc_b, yc_b
+        pairs = [(ib, -1.0)]
+        if s.body_a != "ground":
+            ia = idx[s.body_a]
+            (ly_a, lp_a, lc_a), (_, yp_a, yc_a) = disp(bodies[ia], s.x)
+            dcoef.update({(ia, 0): -ly_a, (ia, 1): -lp_a})
+            tcoef[(ia, 1)] = -yp_a
+            dconst -= lc_a
+            tconst -= yc_a
+            pairs.append((ia, 1.0))
         # body b: force -k delta, moment (X - x_b)(-k delta) - k_yaw theta; body a: opposite
-        for body, sgn in ((ib, -1.0), (ia, 1.0)):
+        for body, sgn in pairs:
             lever = s.x - bodies[body].x
             for (j, c), v in dcoef.items():
                 A[2 * body, 2 * j + c] += sgn * s.k_lat * v
@@ -919,10 +926,18 @@ def steady_curving(bodies: Sequence[PlanarBody], springs: Sequence[PlanarSpring]
     return {b.name: (float(u[2 * i]), float(u[2 * i + 1])) for i, b in enumerate(bodies)}
 
 
-def tgv_planar_model(vehicle: bool) -> tuple[list[PlanarBody], list[PlanarSpring]]:
-    """The TGV 001 bogie (bogie centre at 0) or complete vehicle (car body centre at 0) for
-    ``steady_curving``, from TGV_BOGIE / TGV_VEHICLE."""
+def tgv_planar_model(kind: str) -> tuple[list[PlanarBody], list[PlanarSpring]]:
+    """The TGV 001 single wheelset on its primary springs to the track frame ('wheelset',
+    inputs/tgv_wheelset.nml), bogie ('bogie', bogie centre at 0) or complete vehicle
+    ('vehicle', car body centre at 0) for ``steady_curving`` / ``lateral_stability``, from
+    TGV_BOGIE / TGV_VEHICLE."""
     p, q = TGV_BOGIE, TGV_VEHICLE
+    if kind == "wheelset":
+        return ([PlanarBody("ws1", 0.0, p["m_w"], wheelset=True)],
+                [PlanarSpring("ground", "ws1", 0.0, 2 * p["ky"], 2 * p["kx"] * p["dp"] ** 2)])
+    if kind not in ("bogie", "vehicle"):
+        raise ValueError(f"tgv_planar_model: kind {kind!r}; expected 'wheelset', 'bogie' or 'vehicle'")
+    vehicle = kind == "vehicle"
     centres = (q["pivot"], -q["pivot"]) if vehicle else (0.0,)
     bodies, springs = [], []
     k = 0
@@ -939,13 +954,16 @@ def tgv_planar_model(vehicle: bool) -> tuple[list[PlanarBody], list[PlanarSpring
     return bodies, springs
 
 
+#: Number of wheelsets of each planar model.
+PLANAR_WHEELSETS = {"wheelset": 1, "bogie": 2, "vehicle": 4}
+
 #: Yaw inertias [kg m2] of the TGV 001 bodies (tables 5.1, 5.8), for the linear stability model.
 TGV_YAW_INERTIA = dict(wheelset=799.35, bogie=4063.712, car=2.43e6)
 #: TGV secondary lateral damping per spring [N s/m] (table 5.6).
 TGV_SECONDARY_CY = 3.5e4
 
 
-def lateral_stability(vehicle: bool, f11: float, f22: float, speed: float) -> complex:
+def lateral_stability(kind: str, f11: float, f22: float, speed: float) -> complex:
     """Least-damped eigenvalue [1/s] of the linear lateral/yaw dynamics of the TGV bogie or
     vehicle on straight track (the classical linear model of Wickens 1965 / Iwnicki's handbook
     ch. 7, with the bodies and springs of ``tgv_planar_model``): per wheelset
@@ -954,7 +972,7 @@ def lateral_stability(vehicle: bool, f11: float, f22: float, speed: float) -> co
     dampers. Neglected: gyroscopic yaw-roll coupling, spin creep, gravitational stiffness (zero
     for cones), roll. Real part > 0: the motion grows (hunting)."""
     p = TGV_BOGIE
-    bodies, springs = tgv_planar_model(vehicle)
+    bodies, springs = tgv_planar_model(kind)
     n = 2 * len(bodies)
     M, C, K = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
     idx = {b.name: i for i, b in enumerate(bodies)}
@@ -968,12 +986,15 @@ def lateral_stability(vehicle: bool, f11: float, f22: float, speed: float) -> co
             C[2 * i + 1, 2 * i + 1] += 2 * f11 * p["e0"] ** 2 / speed
             K[2 * i + 1, 2 * i] += 2 * f11 * p["e0"] * p["lam"] / p["r0"]
     for s in springs:
-        ia, ib = idx[s.body_a], idx[s.body_b]
+        ib = idx[s.body_b]
         d = np.zeros(n)      # relative lateral displacement at the attachment: d . q
         d[2 * ib], d[2 * ib + 1] = 1.0, s.x - bodies[ib].x
-        d[2 * ia], d[2 * ia + 1] = -1.0, -(s.x - bodies[ia].x)
         r = np.zeros(n)      # relative yaw
-        r[2 * ib + 1], r[2 * ia + 1] = 1.0, -1.0
+        r[2 * ib + 1] = 1.0
+        if s.body_a != "ground":          # ground: body b's track frame, fixed
+            ia = idx[s.body_a]
+            d[2 * ia], d[2 * ia + 1] = -1.0, -(s.x - bodies[ia].x)
+            r[2 * ia + 1] = -1.0
         K += s.k_lat * np.outer(d, d) + s.k_yaw * np.outer(r, r)
         if s.body_a == "car":
             C += 2 * TGV_SECONDARY_CY * np.outer(d, d)
@@ -983,20 +1004,20 @@ def lateral_stability(vehicle: bool, f11: float, f22: float, speed: float) -> co
     return complex(ev[int(np.argmax(ev.real))])
 
 
-def linear_critical_speed(vehicle: bool, f11: float, f22: float, lo: float = 1.0, hi: float = 300.0) -> float:
+def linear_critical_speed(kind: str, f11: float, f22: float, lo: float = 1.0, hi: float = 300.0) -> float:
     """Lowest speed [m/s] at which ``lateral_stability`` turns unstable (scan, then bisection
     to 0.01 m/s); inf if stable up to ``hi``."""
     grid = np.linspace(lo, hi, 300)
-    unstable = [v for v in grid if lateral_stability(vehicle, f11, f22, v).real > 0]
+    unstable = [v for v in grid if lateral_stability(kind, f11, f22, v).real > 0]
     if not unstable:
         return math.inf
     b = unstable[0]
     a = grid[max(int(np.searchsorted(grid, b)) - 1, 0)]
-    if lateral_stability(vehicle, f11, f22, a).real > 0:
+    if lateral_stability(kind, f11, f22, a).real > 0:
         return float(a)
     while b - a > 0.01:
         m = 0.5 * (a + b)
-        if lateral_stability(vehicle, f11, f22, m).real > 0:
+        if lateral_stability(kind, f11, f22, m).real > 0:
             b = m
         else:
             a = m
@@ -1009,7 +1030,7 @@ def steady_curving_bogie(f11: float, f22: float, radius: float, a_q: float, p: d
     try:
         if p is not None:
             TGV_BOGIE.update(p)
-        bodies, springs = tgv_planar_model(False)
+        bodies, springs = tgv_planar_model("bogie")
         s = steady_curving(bodies, springs, f11, f22, radius, a_q, TGV_BOGIE["r0"], TGV_BOGIE["e0"],
                            TGV_BOGIE["lam"])
     finally:
@@ -1077,12 +1098,12 @@ def identify_creep_series(ctx: Context, wheelsets: Sequence[str], t_from: float,
 
 def _kind_linear_stability(ctx, row, what: str):
     """what = 'rate' (growth rate vs the model's least-damped eigenvalue) or 'wavelength'."""
-    vehicle = row["channel"] == "vehicle"
-    nws = 4 if vehicle else 2
-    t0, t1 = float(row["t_from"]), float(row["t_to"])
+    kind = row["channel"]
+    nws = PLANAR_WHEELSETS[kind]
+    t0 = float(row["t_from"])
     f11, f22 = identify_creep_series(ctx, [f"w{k}" for k in range(1, nws + 1)], t0)
     V = ctx.speed()
-    ev = lateral_stability(vehicle, f11, f22, V)
+    ev = lateral_stability(kind, f11, f22, V)
     t, y = _window(ctx, row, "bodies/ws1/position_track:y")
     thr = float(row["threshold"])
     info = f"linear model with the run's own f11 = {f11:.4g} N, f22 = {f22:.4g} N at {V:g} m/s"
@@ -1100,13 +1121,13 @@ def _kind_linear_stability(ctx, row, what: str):
 
 
 def _kind_linear_curving(ctx, row):
-    vehicle = row["channel"] == "vehicle"
-    nws = 4 if vehicle else 2
+    kind = row["channel"]
+    nws = PLANAR_WHEELSETS[kind]
     f11, f22 = _identify_creep_coefficients(ctx, row, [f"w{k}" for k in range(1, nws + 1)])
     V = ctx.speed()
     phi = math.asin(TGV_CURVE["cant"] / TGV_CURVE["cant_base"])
     a_q = V ** 2 / TGV_CURVE["radius"] * math.cos(phi) - STANDARD_GRAVITY * math.sin(phi)
-    bodies, springs = tgv_planar_model(vehicle)
+    bodies, springs = tgv_planar_model(kind)
     model = steady_curving(bodies, springs, f11, f22, TGV_CURVE["radius"], a_q, TGV_BOGIE["r0"],
                            TGV_BOGIE["e0"], TGV_BOGIE["lam"])
     thr = float(row["threshold"])
@@ -1163,7 +1184,7 @@ def _kind_linear_critical_speed(ctx, row):
     if "creep_coefficients" not in ctx.cache:
         raise CaseError("no probe run to identify the creep coefficients from")
     f11, f22 = ctx.cache["creep_coefficients"]
-    vc_model = linear_critical_speed(False, f11, f22)
+    vc_model = linear_critical_speed("bogie", f11, f22)
     thr = float(row["threshold"])
     allowed = thr * vc_model
     ctx.check(row["id"], abs(vc - vc_model) <= allowed + CRITICAL_SPEED_RESOLUTION / 2, vc,
@@ -1366,6 +1387,10 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
                     res.notes.append("results reused from an earlier run (--reuse)")
                 if res.status != "completed":
                     res.notes.append(f"run status: {res.status}")
+                if meta.get("solver"):
+                    res.notes.append("solver statistics: " + ", ".join(
+                        f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}"
+                        for k, v in sorted(meta["solver"].items())))
             else:
                 res.status = "variants only"
             ctx = Context(case, res, r, out_dir, exe, reuse, others)

@@ -330,7 +330,7 @@ def test_tgv_straight_case_end_to_end(make_results_file, tmp_path, stable):
     out = tmp_path / "out"
     out.mkdir()
     f11, f22 = 4.0e6, 3.6e6
-    ev = V.lateral_stability(False, f11, f22, 20.0)
+    ev = V.lateral_stability("bogie", f11, f22, 20.0)
     assert ev.real < 0
     sigma = ev.real if stable else 0.15
     t = np.arange(0.0, 15.0 + 1e-9, 0.005)
@@ -477,7 +477,7 @@ def test_vehicle_model_reduces_to_two_bogies():
     saved = dict(V.TGV_VEHICLE)
     try:
         V.TGV_VEHICLE.update(m_c=0.0, kx_s=1e-9, ky_s=1e-9)
-        bodies, springs = V.tgv_planar_model(True)
+        bodies, springs = V.tgv_planar_model("vehicle")
         bodies = [b for b in bodies]
         s = V.steady_curving(bodies, springs, f11, f22, R, aq, V.TGV_BOGIE["r0"], V.TGV_BOGIE["e0"],
                              V.TGV_BOGIE["lam"])
@@ -487,7 +487,7 @@ def test_vehicle_model_reduces_to_two_bogies():
     for a, b in (("ws1", "1"), ("ws2", "2"), ("ws3", "1"), ("ws4", "2")):
         assert s[a][0] == pytest.approx(single["y" + b], rel=1e-6)
         assert s[a][1] == pytest.approx(single["psi" + b], rel=1e-6)
-    bodies, springs = V.tgv_planar_model(True)
+    bodies, springs = V.tgv_planar_model("vehicle")
     s = V.steady_curving(bodies, springs, f11, f22, R, aq, V.TGV_BOGIE["r0"], V.TGV_BOGIE["e0"],
                          V.TGV_BOGIE["lam"])
     # total lateral creep force carries the whole vehicle's m a_q
@@ -507,7 +507,7 @@ def test_critical_speed_bisection_on_synthetic_runs(tmp_path, monkeypatch, make_
     out.mkdir()
     speeds = []
     f11, f22 = 4.0e6, 3.6e6
-    v0 = V.linear_critical_speed(False, f11, f22)
+    v0 = V.linear_critical_speed("bogie", f11, f22)
     assert 20.0 < v0 < 40.0
 
     def fake_run(deck, results, exe=None, overrides="", timeout=0, reuse=False):
@@ -539,7 +539,7 @@ def test_lateral_stability_rigid_bogie_klingel():
     saved = dict(p)
     try:
         p.update(kx=1e11, ky=1e11)
-        ev = V.lateral_stability(False, 1e9, 1e9, 40.0)
+        ev = V.lateral_stability("bogie", 1e9, 1e9, 40.0)
     finally:
         p.clear()
         p.update(saved)
@@ -550,7 +550,24 @@ def test_lateral_stability_rigid_bogie_klingel():
 
 def test_linear_critical_speed_is_the_stability_boundary():
     f11, f22 = 4.0e6, 3.6e6
-    vc = V.linear_critical_speed(False, f11, f22)
-    assert V.lateral_stability(False, f11, f22, vc - 0.05).real < 0 < V.lateral_stability(False, f11, f22, vc + 0.05).real
+    vc = V.linear_critical_speed("bogie", f11, f22)
+    assert V.lateral_stability("bogie", f11, f22, vc - 0.05).real < 0 < V.lateral_stability("bogie", f11, f22, vc + 0.05).real
     # larger creep coefficients damp the wheelsets more: higher critical speed (Wickens)
-    assert V.linear_critical_speed(False, 2 * f11, 2 * f22) > vc
+    assert V.linear_critical_speed("bogie", 2 * f11, 2 * f22) > vc
+
+
+def test_wheelset_on_ground_springs_models():
+    """The single wheelset held to its track frame: steady curving has the closed form of a
+    wheelset with lateral stiffness K = 2 ky and yaw stiffness Kp = 2 kx dp^2:
+    psi = -(2 f11 e0 (e0/R + lam y/r0))/Kp from the yaw balance and K y = 2 f22 psi - m a_q."""
+    f11, f22, R, aq = 9.0e6, 8.0e6, 1000.0, 0.05
+    p = V.TGV_BOGIE
+    bodies, springs = V.tgv_planar_model("wheelset")
+    s = V.steady_curving(bodies, springs, f11, f22, R, aq, p["r0"], p["e0"], p["lam"])
+    y, psi = s["ws1"]
+    K, Kp = 2 * p["ky"], 2 * p["kx"] * p["dp"] ** 2
+    assert Kp * psi == pytest.approx(-2 * f11 * p["e0"] * (p["e0"] / R + p["lam"] * y / p["r0"]), rel=1e-9)
+    assert K * y == pytest.approx(2 * f22 * psi - p["m_w"] * aq, rel=1e-9)
+    assert V.lateral_stability("wheelset", f11, f22, 20.0).real < 0
+    with pytest.raises(ValueError):
+        V.tgv_planar_model("tram")
