@@ -563,9 +563,19 @@ class Context:
                                                     list(bands))))
 
     def other_results(self, case_name: str) -> Results:
+        """Results of another case (opened once, closed by ``close``)."""
         if case_name not in self.others:
             raise CaseError(f"case {self.case.name} needs the results of case {case_name}")
-        return Results(self.others[case_name])
+        key = ("results", case_name)
+        if key not in self.cache:
+            self.cache[key] = Results(self.others[case_name])
+        return self.cache[key]
+
+    def close(self) -> None:
+        for key, value in list(self.cache.items()):
+            if isinstance(key, tuple) and key[0] == "results":
+                value.close()
+                del self.cache[key]
 
     def run_variant(self, tag: str, overrides: str) -> Results:
         """Run the case's deck with override groups (e.g. another speed) into out_dir."""
@@ -1394,11 +1404,14 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
             else:
                 res.status = "variants only"
             ctx = Context(case, res, r, out_dir, exe, reuse, others)
-            if r is not None:
-                _check_contact_outputs(ctx)
-            case.evaluate(ctx)
-            if r is not None:
-                _attach_band_checks(ctx)
+            try:
+                if r is not None:
+                    _check_contact_outputs(ctx)
+                case.evaluate(ctx)
+                if r is not None:
+                    _attach_band_checks(ctx)
+            finally:
+                ctx.close()
         finally:
             if r is not None:
                 r.close()

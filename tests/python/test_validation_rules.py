@@ -571,3 +571,58 @@ def test_wheelset_on_ground_springs_models():
     assert V.lateral_stability("wheelset", f11, f22, 20.0).real < 0
     with pytest.raises(ValueError):
         V.tgv_planar_model("tram")
+
+
+def _profile_run(t, shift=(-6e-3, -3e-3, -5.5e-3, -2.5e-3), gamma_right=0.6, fy_scale=1.0):
+    """A profile-contact vehicle run in the left-hand curve: wheelset shifts (outward = -y),
+    the right (outer) wheel's two contact points (tread and flange), lateral wheel forces."""
+    n = len(t)
+    ramp = np.clip((t - 5.0) / 8.0, 0, 1)
+    series = {"vehicle/speed": (np.full((n, 1), 25.6), "m/s", "V", "speed")}
+    for k, y in enumerate(shift, start=1):
+        q = _tgv_series(t, y * ramp)
+        q[:, 3] = 1e-3 * k * ramp
+        series[f"bodies/ws{k}/position_track"] = (q, "m m m rad rad rad", "x y z yaw roll pitch", "p")
+        for side in ("left", "right"):
+            f = np.zeros((n, 3))
+            f[:, 1] = fy_scale * (-20e3 if side == "right" else 8e3) * ramp / k
+            base = f"wheelsets/w{k}/{side}"
+            series[f"{base}/force_track"] = (f, "N", "fx fy fz", "f")
+            g = np.column_stack([np.zeros(n), np.zeros(n), np.full(n, 0.03 if side == "right" else -0.03), np.zeros(n)])
+            series[f"{base}/contact1/geometry"] = (g, "m m rad m", "y_wheel y_rail gamma penetration", "g")
+            series[f"{base}/contact1/active"] = (np.ones((n, 1)), "1", "active", "a")
+            g2 = g.copy()
+            g2[:, 2] = (gamma_right * ramp) if side == "right" else 0.0
+            series[f"{base}/contact2/geometry"] = (g2, "m m rad m", "y_wheel y_rail gamma penetration", "g")
+            series[f"{base}/contact2/active"] = ((ramp > 0.5)[:, None] * 1.0 if side == "right" else np.zeros((n, 1)),
+                                                 "1", "active", "a")
+    return series
+
+
+def test_profile_cases_end_to_end(make_results_file, tmp_path):
+    """FASTSIM case: flange contact (contact angle of an active point), flange-limited shift,
+    trailing less; Polach case: compared with the FASTSIM run of the same directory."""
+    out = tmp_path / "out"
+    out.mkdir()
+    t = np.arange(0.0, 18.0 + 1e-9, 0.02)
+    make_results_file("out/tgv_profile_fastsim.h5", t, _profile_run(t), meta_attrs={"status": "completed"})
+    res = V.run_case("tgv_profile_fastsim", out, reuse=True)
+    assert res.passed, res.summary()
+    flange = next(c for c in res.checks if c.name == "profile_flange_contact")
+    assert flange.value == pytest.approx(0.6)
+    # tread contact only (the flange point never active): not flange-limited
+    make_results_file("out/tgv_profile_fastsim.h5", t, _profile_run(t, gamma_right=0.05),
+                      meta_attrs={"status": "completed"})
+    res = V.run_case("tgv_profile_fastsim", out, reuse=True)
+    assert [c.name for c in res.checks if not c.passed] == ["profile_flange_contact"]
+    # Polach: identical run passes, 1 mm more shift on wheelset 2 or 30% larger forces fail
+    make_results_file("out/tgv_profile_fastsim.h5", t, _profile_run(t), meta_attrs={"status": "completed"})
+    make_results_file("out/tgv_profile_polach.h5", t, _profile_run(t), meta_attrs={"status": "completed"})
+    assert V.run_case("tgv_profile_polach", out, reuse=True).passed
+    make_results_file("out/tgv_profile_polach.h5", t, _profile_run(t, shift=(-6e-3, -4e-3, -5.5e-3, -2.5e-3)),
+                      meta_attrs={"status": "completed"})
+    res = V.run_case("tgv_profile_polach", out, reuse=True)
+    assert [c.name for c in res.checks if not c.passed] == ["polach_shift_difference"]
+    make_results_file("out/tgv_profile_polach.h5", t, _profile_run(t, fy_scale=1.3), meta_attrs={"status": "completed"})
+    res = V.run_case("tgv_profile_polach", out, reuse=True)
+    assert [c.name for c in res.checks if not c.passed] == ["polach_lateral_force_difference"]
