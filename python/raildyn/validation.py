@@ -522,6 +522,28 @@ def run_deck(deck: Path, results: Path, exe: str | os.PathLike | None = None, ov
 # case context and registry
 
 
+#: Channels are named as in docs/output.md; results written with one series per wheel
+#: ('wheelsets/<w>/<side>/wheel') and per contact patch ('.../patch<j>') are read through
+#: these (pattern, replacement) pairs, tried in order.
+_W = r"^(wheelsets/[^/]+/(?:left|right))"
+CHANNEL_ALIASES = [(re.compile(p), r) for p, r in (
+    (_W + r"/force_track:fx$", r"\1/wheel:force_longitudinal"),
+    (_W + r"/force_track:fy$", r"\1/wheel:force_lateral_Y"),
+    (_W + r"/force_track:fz$", r"\1/wheel:force_vertical_Q"),
+    (_W + r"/Y_Q:Y_Q$", r"\1/wheel:Y_over_Q"),
+    (_W + r"/contact(\d+)/creepage:xi$", r"\1/patch\2:xi"),
+    (_W + r"/contact(\d+)/creepage:eta$", r"\1/patch\2:eta"),
+    (_W + r"/contact(\d+)/creepage:phi$", r"\1/patch\2:spin"),
+    (_W + r"/contact(\d+)/creep_force_contact:fx$", r"\1/patch\2:creep_force_x"),
+    (_W + r"/contact(\d+)/creep_force_contact:fy$", r"\1/patch\2:creep_force_y"),
+    (_W + r"/contact(\d+)/creep_force_contact:mz$", r"\1/patch\2:spin_moment"),
+    (_W + r"/contact(\d+)/normal_force:N$", r"\1/patch\2:normal_force"),
+    (_W + r"/contact(\d+)/geometry:gamma$", r"\1/patch\2:contact_angle"),
+    (_W + r"/contact(\d+)/ellipse:a$", r"\1/patch\2:semi_axis_a"),
+    (_W + r"/contact(\d+)/ellipse:b$", r"\1/patch\2:semi_axis_b"),
+)]
+
+
 class Context:
     """What an evaluation function works with: the case's results and helpers."""
 
@@ -532,16 +554,32 @@ class Context:
         self.cache: dict = {}        #: values shared by the checks of one evaluation
 
     # data access with a clear message when the scene did not write a channel
-    def get(self, channel: str, results: Results | None = None) -> np.ndarray:
+    def resolve(self, channel: str, results: Results | None = None) -> str | None:
+        """The name under which the results hold a channel given by its docs/output.md name:
+        itself, or its name in the per-wheel/per-patch layout (CHANNEL_ALIASES); None."""
         r = results or self.r
         if r is None:
             raise CaseError(f"case {self.case.name} has no results of its own")
-        if channel not in r:
+        if channel in r:
+            return channel
+        for pattern, repl in CHANNEL_ALIASES:
+            alt, n = pattern.subn(repl, channel)
+            if n and alt in r:
+                return alt
+        return None
+
+    def has(self, channel: str, results: Results | None = None) -> bool:
+        return self.resolve(channel, results) is not None
+
+    def get(self, channel: str, results: Results | None = None) -> np.ndarray:
+        r = results or self.r
+        name = self.resolve(channel, r)
+        if name is None:
             bodies = [c for c in r.channels() if c.startswith(("bodies/", "wheelsets/"))]
             hint = ("" if bodies else " (the results hold no bodies/ or wheelsets/ series: the "
                     "scene did not build bodies and wheelsets from the deck)")
             raise CaseError(f"{Path(r.path).name}: no channel {channel!r}{hint}")
-        return np.asarray(r.get(channel), float)
+        return np.asarray(r.get(name), float)
 
     def time(self, results: Results | None = None) -> np.ndarray:
         return np.asarray((results or self.r).time, float)
@@ -682,7 +720,7 @@ def evaluate_manchester(ctx: Context) -> None:
         ctx.plot(f"{q} wheel forces (track frame, on the wheel)",
                  [(f"ws{k} {side}", t, ctx.get(f"wheelsets/w{k}/{side}/force_track:{comp}"))
                   for k in ws for side in ("left", "right")], "force [kN]", 1e-3, (w0, w1))
-    if all(f"wheelsets/w1/{s}/Y_Q" in ctx.r for s in ("left", "right")):
+    if all(ctx.has(f"wheelsets/w1/{s}/Y_Q:Y_Q") for s in ("left", "right")):
         ctx.plot("Y/Q of wheelset 1", [(f"ws1 {s}", t, ctx.get(f"wheelsets/w1/{s}/Y_Q:Y_Q"))
                                        for s in ("left", "right")], "Y/Q [-]", 1.0, (w0, w1))
 
@@ -796,10 +834,10 @@ def _kind_flange_contact(ctx, row):
     sgn = 1.0 if side == "right" else -1.0   # conventions: gamma > 0 at a right flange contact
     gam = []
     j = 1
-    while f"{base}/contact{j}/geometry" in ctx.r:
+    while ctx.has(f"{base}/contact{j}/geometry:gamma"):
         _, g = _window(ctx, row, f"{base}/contact{j}/geometry:gamma")
-        _, act = _window(ctx, row, f"{base}/contact{j}/active:active")
-        gam.append(np.where(act > 0.5, sgn * g, -np.inf))
+        _, nf = _window(ctx, row, f"{base}/contact{j}/normal_force:N")
+        gam.append(np.where(nf > 0.0, sgn * g, -np.inf))      # active: carries normal force
         j += 1
     if not gam:
         raise CaseError(f"check {row['id']}: no contact point series under {base} "
@@ -1214,7 +1252,7 @@ def critical_speed_bisection(ctx: Context, row: dict) -> float:
         res = ctx.run_variant(f"v{v:.3f}", f"&simulation speed = {v:.6g}, t_end = {CRITICAL_SPEED_T_END:g} /")
         with res:
             missing = [w for w in deck_wheelsets(ctx.case.deck_path)
-                       if f"wheelsets/{w}/left/force_track" not in res]
+                       if not ctx.has(f"wheelsets/{w}/left/force_track:fy", res)]
             if missing:
                 raise CaseError(f"speed {v:g} m/s: no wheel forces of {', '.join(missing)}: the scene "
                                 "ran without wheel-rail contact (contact not wired)")
@@ -1262,13 +1300,13 @@ def evaluate_tgv(ctx: Context) -> None:
     if not ctx.case.run:
         return
     t = ctx.time()
-    nws = sum(1 for k in range(1, 5) if f"bodies/ws{k}/position_track" in ctx.r)
+    nws = sum(1 for k in range(1, 5) if ctx.has(f"bodies/ws{k}/position_track:y"))
     if nws:
         ctx.plot("Lateral displacement of the wheelsets", [(f"ws{k}", t, ctx.get(f"bodies/ws{k}/position_track:y"))
                                                           for k in range(1, nws + 1)], "y [mm]", 1e3)
         ctx.plot("Yaw angle of the wheelsets", [(f"ws{k}", t, ctx.get(f"bodies/ws{k}/position_track:yaw"))
                                                 for k in range(1, nws + 1)], "yaw [mrad]", 1e3)
-    if "wheelsets/w1/left/force_track" in ctx.r:
+    if ctx.has("wheelsets/w1/left/force_track:fy"):
         ctx.plot("Lateral wheel forces of wheelset 1", [(f"w1 {s}", t, ctx.get(f"wheelsets/w1/{s}/force_track:fy"))
                                                         for s in ("left", "right")], "force [kN]", 1e-3)
 
@@ -1332,7 +1370,7 @@ def _check_contact_outputs(ctx: Context) -> None:
     """Every wheelset of the deck must have written its wheel forces: a scene that runs the
     bodies without wheel-rail contact must not pass a validation case by accident."""
     missing = [w for w in deck_wheelsets(ctx.case.deck_path)
-               if f"wheelsets/{w}/left/force_track" not in ctx.r]
+               if not ctx.has(f"wheelsets/{w}/left/force_track:fy")]
     ctx.check("wheel-rail contact outputs present", not missing, None, "all wheelsets", "",
               "" if not missing else "no wheelsets/<name>/left/force_track for " + ", ".join(missing) +
               ": the scene ran without wheel-rail contact for these wheelsets (contact not wired)")

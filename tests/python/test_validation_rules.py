@@ -590,12 +590,12 @@ def _profile_run(t, shift=(-6e-3, -3e-3, -5.5e-3, -2.5e-3), gamma_right=0.6, fy_
             series[f"{base}/force_track"] = (f, "N", "fx fy fz", "f")
             g = np.column_stack([np.zeros(n), np.zeros(n), np.full(n, 0.03 if side == "right" else -0.03), np.zeros(n)])
             series[f"{base}/contact1/geometry"] = (g, "m m rad m", "y_wheel y_rail gamma penetration", "g")
-            series[f"{base}/contact1/active"] = (np.ones((n, 1)), "1", "active", "a")
+            series[f"{base}/contact1/normal_force"] = (np.full((n, 1), 5e4), "N", "N", "n")
             g2 = g.copy()
             g2[:, 2] = (gamma_right * ramp) if side == "right" else 0.0
             series[f"{base}/contact2/geometry"] = (g2, "m m rad m", "y_wheel y_rail gamma penetration", "g")
-            series[f"{base}/contact2/active"] = ((ramp > 0.5)[:, None] * 1.0 if side == "right" else np.zeros((n, 1)),
-                                                 "1", "active", "a")
+            series[f"{base}/contact2/normal_force"] = (
+                (ramp > 0.5)[:, None] * 2e4 if side == "right" else np.zeros((n, 1)), "N", "N", "n")
     return series
 
 
@@ -626,3 +626,35 @@ def test_profile_cases_end_to_end(make_results_file, tmp_path):
     make_results_file("out/tgv_profile_polach.h5", t, _profile_run(t, fy_scale=1.3), meta_attrs={"status": "completed"})
     res = V.run_case("tgv_profile_polach", out, reuse=True)
     assert [c.name for c in res.checks if not c.passed] == ["polach_lateral_force_difference"]
+
+
+def test_per_wheel_layout_is_read_through_aliases(make_results_file, tmp_path):
+    """Results with one series per wheel ('wheel': force_longitudinal, force_lateral_Y,
+    force_vertical_Q, ...) and per patch ('patch<j>': xi, eta, creep_force_x, ...) evaluate like
+    the docs/output.md layout: the curve case built both ways gives the same checks."""
+    out = tmp_path / "out"
+    out.mkdir()
+    t = np.arange(0.0, 20.0 + 1e-9, 0.01)
+    _, series = _curving_series(t)
+    make_results_file("out/tgv_bogie_curve.h5", t, series, meta_attrs={"status": "completed"})
+    ref = V.run_case("tgv_bogie_curve", out, reuse=True)
+    alt = {}
+    for name, (data, unit, comps, desc) in series.items():
+        m = re.match(r"(wheelsets/w\d/(?:left|right))/(force_track|contact1/creepage|contact1/creep_force_contact)$", name)
+        if not m:
+            alt[name] = (data, unit, comps, desc)
+            continue
+        base, what = m.groups()
+        if what == "force_track":
+            wheel = np.column_stack([np.ones(len(t)), data, data[:, 1] / 5e4, np.zeros(len(t))])
+            alt[f"{base}/wheel"] = (wheel, "1 N N N 1 m", "n_patches force_longitudinal force_lateral_Y "
+                                    "force_vertical_Q Y_over_Q max_penetration", "w")
+        else:
+            cr = series[f"{base}/contact1/creepage"][0]
+            fc = series[f"{base}/contact1/creep_force_contact"][0]
+            alt[f"{base}/patch1"] = (np.column_stack([cr, fc]), "1 1 1/m N N N*m",
+                                     "xi eta spin creep_force_x creep_force_y spin_moment", "p")
+    make_results_file("out/tgv_bogie_curve.h5", t, alt, meta_attrs={"status": "completed"})
+    res = V.run_case("tgv_bogie_curve", out, reuse=True)
+    assert res.passed, res.summary()
+    assert [(c.name, c.value) for c in res.checks] == [(c.name, c.value) for c in ref.checks]
