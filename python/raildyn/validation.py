@@ -286,23 +286,23 @@ GROWTH_FLOOR = 1e-7
 
 
 def growth_rate(t: np.ndarray, y: np.ndarray, floor: float = GROWTH_FLOOR) -> tuple[float, int]:
-    """Exponential growth rate of the oscillation envelope [1/s] (negative: decay): slope of
-    the least-squares line through ln(peak) against peak time (the logarithmic decrement per
-    half cycle divided by the half period). Without 3 peaks (over-damped motion) the rate
-    compares the largest |y| in the first and last fifths of the window. Returns (rate,
-    number of peaks used)."""
+    """Exponential growth rate of the motion [1/s] (negative: decay). With at least 3 half-cycle
+    peaks above ``floor``: slope of the least-squares line through ln(peak) against the peak
+    times (the logarithmic decrement per half cycle over the half period). Otherwise (an
+    over-damped, non-oscillating motion): slope of ln|y| against t over the samples above the
+    floor. Returns (rate, number of peaks used; 0 for the second form). A motion that never
+    rises above the floor in the window is an error (no disturbance, or it died out before)."""
     tp, ap = half_cycle_peaks(t, y, floor)
     if tp.size >= 3:
         slope = np.polyfit(tp, np.log(ap), 1)[0]
         return float(slope), int(tp.size)
-    n = len(t)
-    if n < 10:
-        raise CaseError("too few output points to estimate a growth rate")
-    k = max(n // 5, 1)
-    a0 = np.max(np.abs(y[:k]))
-    a1 = np.max(np.abs(y[-k:]))
-    a0, a1 = max(a0, floor), max(a1, floor)
-    return float(np.log(a1 / a0) / (t[-k // 2] - t[k // 2])), int(tp.size)
+    t = np.asarray(t, float)
+    a = np.abs(np.asarray(y, float))
+    m = a > floor
+    if m.sum() < 5:
+        raise CaseError(f"the motion stays below {floor:g} in the window: nothing to measure a "
+                        "growth rate on (no disturbance, or it died out before the window)")
+    return float(np.polyfit(t[m], np.log(a[m]), 1)[0]), 0
 
 
 def oscillation_wavelength(t: np.ndarray, y: np.ndarray, speed: float) -> float:

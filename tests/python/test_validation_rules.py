@@ -125,7 +125,12 @@ def test_growth_rate_of_exponential_sine(sigma):
 def test_growth_rate_overdamped_and_noise_floor():
     t = np.linspace(0, 5, 501)
     rate, npk = V.growth_rate(t, 1e-3 * np.exp(-2.0 * t))
-    assert npk == 0 and rate < -1.5
+    assert npk == 0 and rate == pytest.approx(-2.0, rel=1e-6)
+    # decays below the floor half-way: only the samples above it count
+    rate, npk = V.growth_rate(t, 1e-3 * np.exp(-5.0 * t))
+    assert npk == 0 and rate == pytest.approx(-5.0, rel=1e-6)
+    with pytest.raises(V.CaseError, match="stays below"):
+        V.growth_rate(t, np.zeros_like(t))
     # peaks below the floor (motion died out) are ignored
     y = 1e-3 * np.exp(-1.0 * t) * np.sin(2 * np.pi * 2 * t)
     tp, ap = V.half_cycle_peaks(t, y, floor=1e-5)
