@@ -178,18 +178,19 @@ def _wheel_forces(series, n, wheelsets):
     return series
 
 
-def _straight_contact(series, t, y, wheelsets, f11, f22):
-    """Contact outputs of a straight run consistent with creep coefficients f11, f22 (spin
-    forces opposite on the two wheels)."""
+def _straight_contact(series, t, y, wheelsets, f11, f22, f23=3e4):
+    """Contact outputs of a straight run consistent with creep coefficients f11, f22, f23: the
+    cone's constant spin (opposite on the two wheels) plus a common part following the yaw
+    rate (here ~ y'), whose lateral force does not cancel between the wheels."""
     n = len(t)
     yd = np.gradient(y, t)
     for k in wheelsets:
         for side, sg in (("left", -1.0), ("right", 1.0)):
             xi = sg * 0.2 * y
-            eta = 0.05 * yd
-            spin = -sg * 0.2 * np.ones(n)
+            eta = 0.05 * yd + 0.3 * y
+            spin = -sg * 0.2 + 0.4 * yd
             cr = np.column_stack([xi, eta, spin])
-            fc = np.column_stack([-f11 * xi, -f22 * eta - 3e4 * spin, np.zeros(n)])
+            fc = np.column_stack([-f11 * xi, -f22 * eta - f23 * spin, np.zeros(n)])
             base = f"wheelsets/w{k}/{side}"
             series[f"{base}/force_track"] = (fc, "N", "fx fy fz", "f")
             series[f"{base}/contact1/creepage"] = (cr, "1 1 1/m", "xi eta phi", "c")
@@ -391,7 +392,7 @@ def test_tgv_curve_case_end_to_end(make_results_file, tmp_path):
     run's state equals the linear model's for the identified creep coefficients."""
     out = tmp_path / "out"
     out.mkdir()
-    t = np.arange(0.0, 20.0 + 1e-9, 0.01)
+    t = np.arange(0.0, 30.0 + 1e-9, 0.01)
     s, series = _curving_series(t)
     assert s["y1"] < s["y2"] < 0          # both outward, the leading one more
     make_results_file("out/tgv_bogie_curve.h5", t, series, meta_attrs={"status": "completed"})
@@ -413,7 +414,7 @@ def test_case_without_contact_outputs_fails(make_results_file, tmp_path):
     """Bodies moving without wheel-rail contact must not pass, whatever the motion."""
     out = tmp_path / "out"
     out.mkdir()
-    t = np.arange(0.0, 20.0 + 1e-9, 0.01)
+    t = np.arange(0.0, 30.0 + 1e-9, 0.01)
     ramp = np.clip((t - 5.0) / 10.0, 0, 1)
     series = {"bodies/ws1/position_track": (_tgv_series(t, -3e-3 * ramp), "m m m rad rad rad", "x y z yaw roll pitch", "p"),
               "bodies/ws2/position_track": (_tgv_series(t, -1e-3 * ramp), "m m m rad rad rad", "x y z yaw roll pitch", "p")}
@@ -639,7 +640,7 @@ def test_per_wheel_layout_is_read_through_aliases(make_results_file, tmp_path):
     the docs/output.md layout: the curve case built both ways gives the same checks."""
     out = tmp_path / "out"
     out.mkdir()
-    t = np.arange(0.0, 20.0 + 1e-9, 0.01)
+    t = np.arange(0.0, 30.0 + 1e-9, 0.01)
     _, series = _curving_series(t)
     make_results_file("out/tgv_bogie_curve.h5", t, series, meta_attrs={"status": "completed"})
     ref = V.run_case("tgv_bogie_curve", out, reuse=True)
@@ -663,3 +664,18 @@ def test_per_wheel_layout_is_read_through_aliases(make_results_file, tmp_path):
     res = V.run_case("tgv_bogie_curve", out, reuse=True)
     assert res.passed, res.summary()
     assert [(c.name, c.value) for c in res.checks] == [(c.name, c.value) for c in ref.checks]
+
+
+def test_identify_creep_coefficients_with_spin(make_results_file, tmp_path):
+    """f11 and f22 are recovered from creepages and forces although the lateral forces carry a
+    spin part that does not cancel between the wheels."""
+    t = np.arange(0.0, 5.0, 0.005)
+    y = 1e-3 * np.exp(-0.3 * t) * np.sin(2 * np.pi * 0.8 * t)
+    series = {"bodies/ws1/position_track": (_tgv_series(t, y), "m m m rad rad rad", "x y z yaw roll pitch", "p")}
+    _straight_contact(series, t, y, (1, 2), 4.1e6, 3.7e6, f23=6e4)
+    path = make_results_file("r.h5", t, series)
+    from raildyn import Results
+    with Results(path) as r:
+        ctx = V.Context(V.CASES["tgv_bogie_straight_20"], V.CaseResult("x"), r, tmp_path, None, False, {})
+        f11, f22 = V.identify_creep_series(ctx, ["w1", "w2"], 0.5)
+    assert f11 == pytest.approx(4.1e6, rel=1e-9) and f22 == pytest.approx(3.7e6, rel=1e-9)
