@@ -1335,7 +1335,7 @@ CASES: dict[str, Case] = {c.name: c for c in [
          "Thesis fig. 5.18: hunting grows; wavelength between the wheelset and rigid-bogie Klingel values.",
          evaluate_tgv, baseline_channels=_TGV_BASE),
     Case("tgv_bogie_critical_speed", "tgv_bogie_straight_40.nml", "TGV 001 bogie, critical speed",
-         "Bisection between 20 and 40 m/s on decay vs growth of the 1 mm disturbance (8 s runs).",
+         "Bisection between 20 and 40 m/s on decay vs growth after a lateral pulse (8 s runs of the 40 m/s deck).",
          evaluate_tgv, run=False),
     Case("tgv_bogie_curve", "tgv_bogie_curve.nml", "TGV 001 bogie, transition into R 1000 m, 20 m/s",
          "Thesis 5.3.4.2, figs. 5.20-5.22: wheelsets move outward, the trailing one less; settle in the curve.",
