@@ -486,14 +486,25 @@ class RunInfo:
     reused: bool = False
 
 
+#: Wall-clock limit of one run [s] ($RAILDYN_VALIDATION_TIMEOUT overrides): a run that takes
+#: longer fails its case with that message instead of holding CI.
+DEFAULT_RUN_TIMEOUT = 900.0
+
+
+def run_timeout() -> float:
+    value = os.environ.get("RAILDYN_VALIDATION_TIMEOUT")
+    return float(value) if value else DEFAULT_RUN_TIMEOUT
+
+
 def run_deck(deck: Path, results: Path, exe: str | os.PathLike | None = None, overrides: str = "",
-             timeout: float = 3600, reuse: bool = False) -> RunInfo:
+             timeout: float | None = None, reuse: bool = False) -> RunInfo:
     """Run a deck (optionally with override groups appended through an including deck next to
     the results) and return where the results are. Statuses 0 and 3 leave usable results.
     ``exe`` as for ``find_executable`` (looked up only when a run is needed)."""
     if reuse and results.exists():
         return RunInfo(results, 0, 0.0, "", reused=True)
     exe = find_executable(exe)
+    timeout = run_timeout() if timeout is None else timeout
     results.parent.mkdir(parents=True, exist_ok=True)
     run_deck_path = deck
     if overrides:
@@ -507,7 +518,9 @@ def run_deck(deck: Path, results: Path, exe: str | os.PathLike | None = None, ov
         proc = subprocess.run([os.fspath(exe), "run", os.fspath(run_deck_path), "-o", os.fspath(results)],
                               capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
-        raise CaseError(f"raildyn run {run_deck_path.name} exceeded {timeout:g} s") from None
+        raise CaseError(f"raildyn run {run_deck_path.name} exceeded the wall-clock limit of {timeout:g} s "
+                        "(RAILDYN_VALIDATION_TIMEOUT); the partial results are in "
+                        f"{results}") from None
     wall = time.perf_counter() - t0
     if proc.returncode not in (0, 3):
         msg = (proc.stderr.strip() or proc.stdout.strip()).splitlines()

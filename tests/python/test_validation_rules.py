@@ -679,3 +679,13 @@ def test_identify_creep_coefficients_with_spin(make_results_file, tmp_path):
         ctx = V.Context(V.CASES["tgv_bogie_straight_20"], V.CaseResult("x"), r, tmp_path, None, False, {})
         f11, f22 = V.identify_creep_series(ctx, ["w1", "w2"], 0.5)
     assert f11 == pytest.approx(4.1e6, rel=1e-9) and f22 == pytest.approx(3.7e6, rel=1e-9)
+
+
+def test_run_timeout_fails_the_case_with_a_message(tmp_path, monkeypatch):
+    """A run over the wall-clock limit is killed and reported, not waited for."""
+    exe = tmp_path / "raildyn"
+    exe.write_text("#!/bin/sh\nsleep 30\n")
+    exe.chmod(0o755)
+    monkeypatch.setenv("RAILDYN_VALIDATION_TIMEOUT", "0.5")
+    res = V.run_case("tgv_bogie_straight_20", tmp_path / "out", exe=exe)
+    assert not res.passed and "wall-clock limit of 0.5 s" in res.error
