@@ -37,14 +37,19 @@ contains
 
   !> Set the preloads of all elements with adjustable components so that the free
   !> accelerations vanish at (t, y). `residual` is max |qddot| afterwards [m/s^2, rad/s^2].
-  subroutine solve_static_preloads(mb, t, y, residual, error)
+  !> `supported(ib)`: body ib is held by something that is not an element (wheel-rail
+  !> contact): its equations are left out of the balance, its residual is for the contact
+  !> to carry (a static position solve follows).
+  subroutine solve_static_preloads(mb, t, y, residual, error, supported)
     type(multibody_t), intent(inout) :: mb
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(out) :: residual
     type(error_t), allocatable, intent(out) :: error
-    integer :: np, ne, e, j, k, n, rank, info, lwork, nb
+    logical, intent(in), optional :: supported(:)
+    integer :: np, ne, e, j, k, n, rank, info, lwork, nb, ib
     integer, allocatable :: first(:), iwork(:)
+    logical, allocatable :: row(:)
     real(wp), allocatable :: ydot(:), a0(:), g(:, :), b(:), s(:), work(:), p(:)
     real(wp) :: wq(1)
     integer :: iwq(1)
@@ -59,6 +64,17 @@ contains
     end do
     if (np == 0 .or. ne == 0) then
       call make_error(error, RD_ERR_INPUT, 'static preloads: no adjustable preload or no free coordinate'); return
+    end if
+    ! rows of the balance: free coordinates of bodies not supported otherwise
+    allocate (row(ne))
+    row = .true.
+    if (present(supported)) then
+      do ib = 1, size(supported)
+        if (.not. supported(ib)) cycle
+        do j = 1, 6
+          if (mb%free_index(j, ib) > 0) row(mb%free_index(j, ib)) = .false.
+        end do
+      end do
     end if
     allocate (ydot(size(y)), p(np), g(ne, np))
     p = 0
@@ -78,6 +94,13 @@ contains
       end if
       g(:, j) = ydot(ne + 1:2 * ne) - a0
     end do
+    ! excluded rows enter with zero weight
+    do j = 1, ne
+      if (.not. row(j)) then
+        g(j, :) = 0
+        a0(j) = 0
+      end if
+    end do
     nb = max(ne, np)
     allocate (b(nb), s(min(ne, np)))
     b = 0
@@ -96,7 +119,7 @@ contains
     if (allocated(error)) then
       call error_context(error, 'static preloads'); return
     end if
-    residual = maxval(abs(ydot(ne + 1:2 * ne)))
+    residual = maxval(abs(ydot(ne + 1:2 * ne)), mask=row)
     if (residual > 1.0e-6_wp * max(1.0_wp, maxval(abs(a0)))) then
       call make_error(error, RD_ERR_INPUT, 'static preloads: the elements'' preloads cannot balance the loads '// &
                       '(a body or direction has no preloadable support)')

@@ -18,13 +18,20 @@ module rd_scene
   use rd_hdf5_writer, only: h5_writer_t
   use rd_output_set, only: output_set_t
   use rd_scene_track, only: build_scene_track
-  use rd_scene_vehicle, only: build_bodies, build_element, build_external_loads, body_index
+  use rd_scene_vehicle, only: build_bodies, build_element, build_external_loads, body_index, &
+                              build_wheelset_specs
+  use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
+  use rd_wheelset_contact, only: wheelset_contact_t
+  use rd_wheel_contact_result, only: MAX_PATCHES, N_PATCH_CHANNELS, N_WHEEL_CHANNELS, &
+    N_WHEELSET_CHANNELS, patch_channel_names, patch_channel_units, wheel_channel_names, &
+    wheel_channel_units, wheelset_channel_names, wheelset_channel_units, patch_channel_values, &
+    wheel_channel_values, wheelset_channel_values
   use rd_body_spec, only: body_spec_t
   use rd_multibody, only: multibody_t, BODY_OUT_RELATIVE, BODY_OUT_FIXED, ELEMENT_OUT
   use rd_force_element, only: force_element_t
   use rd_force_provider, only: force_provider_t
   use rd_external_loads, only: external_loads_t
-  use rd_static_preload, only: solve_static_preloads
+  use rd_static_preload, only: solve_static_preloads, solve_static_positions
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t
   use rd_linear_spring_damper, only: linear_spring_damper_t
   use rd_nonlinear_spring, only: nonlinear_spring_t
@@ -48,6 +55,8 @@ module rd_scene
     class(track_geometry_t), pointer, public :: track => null()
     type(multibody_t), pointer :: mbs => null()
     type(external_loads_t), pointer :: loads => null()
+    type(wheelset_contact_t), pointer :: contact => null()
+    character(len=64), allocatable :: wheelset_names(:)
     type(integrator_t), pointer :: integrator => null()
     type(integrator_settings_t) :: solver
     real(wp), allocatable :: y(:)        !< integrator state at time t
@@ -239,7 +248,60 @@ contains
         call self%outputs%add(p // 'force_fixed', 3, 'N', 'force on body 2, fixed frame', 'fX fY fZ', id)
       end associate
     end do
+    if (associated(self%contact)) then
+      do k = 1, size(self%wheelset_names)
+        associate (p => 'wheelsets/' // trim(self%wheelset_names(k)) // '/')
+          call self%outputs%add(p // 'summary', N_WHEELSET_CHANNELS, unit_tokens(wheelset_channel_units), &
+            'derailment quotient (max Y/Q of the wheels) and sum of the guiding forces Y', &
+            join(wheelset_channel_names), id)
+          block
+            integer :: side, j
+            character(len=5), parameter :: sides(2) = ['left ', 'right']
+            character(len=8) :: tagj
+            do side = 1, 2
+              call self%outputs%add(p // trim(sides(side)) // '/wheel', N_WHEEL_CHANNELS, &
+                unit_tokens(wheel_channel_units), 'wheel: patches, force on the wheel in track ' // &
+                'components (longitudinal, Y, Q), Y/Q (> 0 towards flange climb), largest penetration', &
+                join(wheel_channel_names), id)
+              do j = 1, MAX_PATCHES
+                write (tagj, '(i0)') j
+                call self%outputs%add(p // trim(sides(side)) // '/patch' // trim(tagj), N_PATCH_CHANNELS, &
+                  unit_tokens(patch_channel_units), 'contact patch (zeros when absent): geometry, ' // &
+                  'normal force, creepages, creep forces on the wheel (contact frame)', &
+                  join(patch_channel_names), id)
+              end do
+            end do
+          end block
+        end associate
+      end do
+    end if
   end subroutine register_outputs
+
+  !> Space-separated unit tokens (docs/output.md: no spaces inside a token, '1' for none).
+  pure function unit_tokens(units) result(text)
+    character(len=*), intent(in) :: units(:)
+    character(len=:), allocatable :: text
+    integer :: i
+    character(len=:), allocatable :: u
+    text = ''
+    do i = 1, size(units)
+      u = trim(units(i))
+      if (u == '-' .or. u == '') u = '1'
+      if (u == 'N m') u = 'N*m'
+      if (i > 1) text = text // ' '
+      text = text // u
+    end do
+  end function unit_tokens
+
+  pure function join(words) result(text)
+    character(len=*), intent(in) :: words(:)
+    character(len=:), allocatable :: text
+    integer :: i
+    text = trim(words(1))
+    do i = 2, size(words)
+      text = text // ' ' // trim(words(i))
+    end do
+  end function join
 
   pure integer function mbs_element_count(self)
     class(scene_t), intent(in) :: self
@@ -401,6 +463,15 @@ contains
       do i = 1, self%nbodies
         call self%mbs%body_output_relative(i, rel)
         call self%mbs%body_output_fixed(i, fix)
+        if (self%mbs%bodies(i)%is_wheelset) then
+          ! docs/conventions.md: a wheelset's pitch output is the spin deviation from
+          ! nominal rolling, beta = theta - s(t)/r0 (and its rates), not the spin angle.
+          associate (r0 => self%mbs%bodies(i)%r0)
+            rel(6) = rel(6) - self%mbs%speed%distance(self%t) / r0
+            rel(12) = rel(12) - self%mbs%speed%speed(self%t) / r0
+            rel(18) = rel(18) - self%mbs%speed%acceleration(self%t) / r0
+          end associate
+        end if
         self%outputs%channels(j)%values = rel(1:6); j = j + 1
         self%outputs%channels(j)%values = rel(7:12); j = j + 1
         self%outputs%channels(j)%values = rel(13:18); j = j + 1
@@ -417,6 +488,22 @@ contains
         self%outputs%channels(j)%values = el(4:6); j = j + 1
         self%outputs%channels(j)%values = el(7:9); j = j + 1
       end do
+      if (associated(self%contact)) then
+        block
+          integer :: w, side, k
+          do w = 1, size(self%wheelset_names)
+            associate (res => self%contact%results(w))
+              call wheelset_channel_values(res, self%outputs%channels(j)%values); j = j + 1
+              do side = 1, 2
+                call wheel_channel_values(res%wheel(side), self%outputs%channels(j)%values); j = j + 1
+                do k = 1, MAX_PATCHES
+                  call patch_channel_values(res%wheel(side), k, self%outputs%channels(j)%values); j = j + 1
+                end do
+              end do
+            end associate
+          end do
+        end block
+      end if
     end block
   end subroutine refresh_outputs
 
@@ -454,6 +541,25 @@ contains
     provider => self%loads
     call self%mbs%add_provider(provider)
 
+    if (self%deck%count('wheelset') > 0) then
+      block
+        type(wheelset_contact_spec_t), allocatable :: specs(:)
+        character(len=:), allocatable :: name
+        call build_wheelset_specs(self%deck, specs, error)
+        if (allocated(error)) return
+        allocate (self%contact)
+        call self%contact%init(specs, self%nbodies, error)
+        if (allocated(error)) return
+        allocate (self%wheelset_names(size(specs)))
+        do i = 1, size(specs)
+          call self%deck%get('wheelset', i, 'name', name, error); if (allocated(error)) return
+          self%wheelset_names(i) = name
+        end do
+        provider => self%contact
+        call self%mbs%add_provider(provider)
+      end block
+    end if
+
     call self%deck%get('simulation', 1, 'equilibrium', self%equilibrium, error); if (allocated(error)) return
     call self%deck%get('solver', 1, 'method', method, error); if (allocated(error)) return
     self%solver%method = method
@@ -476,12 +582,33 @@ contains
     call self%mbs%initial_state(self%y, error)
     if (allocated(error)) return
     call nominal_lengths_from_initial_configuration(self%mbs, self%y)
-    if (self%equilibrium == 'preload') then
-      call solve_static_preloads(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error)
-      if (allocated(error)) then
-        call error_context(error, self%deck%origin('simulation', 1, 'equilibrium'))
-        return
+    select case (self%equilibrium)
+    case ('preload')
+      if (associated(self%contact)) then
+        ! Thesis 5.2.1 d: suspension preloads carry the bodies above the wheelsets; the
+        ! wheelsets are carried by the rails, so their equations are left to a static
+        ! position solve (contact penetration, suspension settling) that follows.
+        block
+          logical :: supported(self%nbodies)
+          integer :: w
+          supported = .false.
+          do w = 1, size(self%contact%models)
+            supported(self%contact%models(w)%body) = .true.
+          end do
+          call solve_static_preloads(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, &
+                                     supported=supported)
+        end block
+        if (.not. allocated(error)) &
+          call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error)
+      else
+        call solve_static_preloads(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error)
       end if
+    case ('solve')
+      call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error)
+    end select
+    if (allocated(error)) then
+      call error_context(error, self%deck%origin('simulation', 1, 'equilibrium'))
+      return
     end if
     allocate (self%integrator)
     call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error)
@@ -520,6 +647,7 @@ contains
     end if
     if (associated(self%mbs)) deallocate (self%mbs)
     if (associated(self%loads)) deallocate (self%loads)
+    if (associated(self%contact)) deallocate (self%contact)
     if (associated(self%track)) deallocate (self%track)
   end subroutine scene_destroy
 

@@ -14,9 +14,10 @@ module rd_scene_vehicle
   use rd_torsion_spring_damper, only: torsion_spring_damper_t
   use rd_nonlinear_spring, only: nonlinear_spring_t, make_force_table
   use rd_series_spring_damper, only: series_spring_damper_t
+  use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   implicit none
   private
-  public :: build_bodies, build_element, build_external_loads, body_index
+  public :: build_bodies, build_element, build_external_loads, body_index, build_wheelset_specs
 
   character(len=*), parameter :: dof_names(6) = [character(len=5) :: 'x', 'y', 'z', 'yaw', 'roll', 'pitch']
 
@@ -295,4 +296,69 @@ contains
       end if
     end do
   end subroutine build_external_loads
+  !> One contact spec per `&wheelset` (track placement from `&track`, run-time limits
+  !> from `&simulation`).
+  subroutine build_wheelset_specs(deck, specs, error)
+    type(deck_t), intent(in) :: deck
+    type(wheelset_contact_spec_t), allocatable, intent(out) :: specs(:)
+    type(error_t), allocatable, intent(out) :: error
+    character(len=:), allocatable :: text
+    real(wp) :: contact_distance
+    integer :: i, grid
+    allocate (specs(deck%count('wheelset')))
+    do i = 1, size(specs)
+      associate (w => specs(i))
+        call deck%get('wheelset', i, 'body', text, error); if (allocated(error)) return
+        w%body = body_index(deck, text)
+        call deck%get('wheelset', i, 'contact', text, error); if (allocated(error)) return
+        w%model = text
+        if (w%model == 'profile') then
+          if (.not. deck%given('wheelset', i, 'wheel_profile') .or. &
+              .not. deck%given('wheelset', i, 'rail_profile')) then
+            call make_error(error, RD_ERR_INPUT, deck%origin('wheelset', i, 'wheel_profile') // &
+              ": profile contact needs wheel_profile and rail_profile (a file, or 's1002' / '60e1' / '54e1')")
+            return
+          end if
+          w%wheel_profile = deck%path('wheelset', i, 'wheel_profile')
+          w%rail_profile = deck%path('wheelset', i, 'rail_profile')
+        end if
+        call deck%get('wheelset', i, 'nominal_radius', w%nominal_radius, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'back_to_back', w%back_to_back, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'flange_back', w%flange_back, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'rail_precant', w%rail_precant, error); if (allocated(error)) return
+        call deck%get('track', 1, 'gauge', w%gauge, error); if (allocated(error)) return
+        call deck%get('track', 1, 'rail_inclination', w%rail_inclination, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'conicity', w%knife_conicity, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'contact_distance', contact_distance, error); if (allocated(error)) return
+        w%knife_e0 = contact_distance / 2
+        call deck%get('wheelset', i, 'rail_crown_radius', w%knife_rail_crown_radius, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'flange_clearance', w%knife_flange_clearance, error); if (allocated(error)) return
+        if (w%knife_flange_clearance <= 0) w%knife_flange_clearance = -1
+        call deck%get('wheelset', i, 'flange_stiffness', w%knife_flange_stiffness, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'shear_modulus', w%shear_modulus, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'poisson', w%poisson, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'hertz_method', text, error); if (allocated(error)) return
+        w%hertz_method = text
+        call deck%get('wheelset', i, 'contact_damping', w%contact_damping, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'friction', w%friction, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'creep_law', text, error); if (allocated(error)) return
+        w%creep_law = text
+        call deck%get('wheelset', i, 'creep_saturation', text, error); if (allocated(error)) return
+        w%creep_options%saturation = text
+        call deck%get('wheelset', i, 'fastsim_grid', grid, error); if (allocated(error)) return
+        w%creep_options%grid_nx = grid
+        w%creep_options%grid_ny = grid
+        call deck%get('wheelset', i, 'fastsim_bound', text, error); if (allocated(error)) return
+        w%creep_options%bound = text
+        call deck%get('wheelset', i, 'polach_ka', w%creep_options%polach_ka, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'polach_ks', w%creep_options%polach_ks, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'polach_friction_ratio', w%creep_options%polach_friction_ratio, error)
+        if (allocated(error)) return
+        call deck%get('wheelset', i, 'polach_friction_decay', w%creep_options%polach_friction_decay, error)
+        if (allocated(error)) return
+        call deck%get('wheelset', i, 'creep_velocity_min', w%creep_v0, error); if (allocated(error)) return
+        call deck%get('simulation', 1, 'max_wheel_lift', w%liftoff_limit, error); if (allocated(error)) return
+      end associate
+    end do
+  end subroutine build_wheelset_specs
 end module rd_scene_vehicle

@@ -375,7 +375,19 @@ contains
             default=0.05_wp, min=zero, min_open=.true.), &
       preal('contact_damping', 'N s/m', 'normal contact damping', default=zero, min=zero), &
       pstr('hertz_method', 'Hertz ellipse coefficients', default='elliptic', &
-           allowed='elliptic|table')])
+           allowed='elliptic|table'), &
+      preal('rail_precant', '-', 'inclination already contained in the rail profile file (tan)', &
+            default=zero, min=zero, max=0.1_wp), &
+      preal('rail_crown_radius', 'm', 'rail head radius seen by Hertz (knife edge)', &
+            default=0.3_wp, min=zero, min_open=.true.), &
+      preal('flange_clearance', 'm', 'lateral free play to the flange stop (knife edge; 0 = no stop)', &
+            default=zero, min=zero), &
+      preal('flange_stiffness', 'N/m', 'lateral stiffness of the flange stop (knife edge)', &
+            default=zero, min=zero), &
+      preal('polach_friction_ratio', '-', 'Polach 2005: mu_inf / mu_0 (1 = no decay)', &
+            default=1.0_wp, min=zero, max=1.0_wp, min_open=.true.), &
+      preal('polach_friction_decay', 's/m', 'Polach 2005: B in mu = mu0((1-A) exp(-B w) + A)', &
+            default=zero, min=zero)])
 
     call add_group(s, 'element', .true., 'a suspension force element between two bodies', [ &
       unique_name('unique element name'), &
