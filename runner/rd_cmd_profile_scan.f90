@@ -5,7 +5,7 @@
 !>                        [--inclination 0.025] [--rail-precant 0] [--gauge 1.435]
 !>                        [--back-to-back 1.360] [--radius 0.46] [--ymax 0.010]
 !>                        [--step 0.0005] [--yaw-per-shift 0] [--amplitude 0.003]...
-!>                        [--lowering 5e-6] [--csv OUT.csv]
+!>                        [--lowering 5e-6] [--csv OUT.csv] [--h5 OUT.h5] [--plot OUT.png]
 !> Profile files: SIMPACK .prw/.prr or y-z tables (rd_profile_io). --rail-precant is the
 !> inclination already contained in a rail file (e.g. 0.025 for the Manchester UIC60 v3).
 !> All values SI. Prints a table and the equivalent conicities; exit status 0, 1 when the
@@ -21,21 +21,23 @@ module rd_cmd_profile_scan
   use rd_contact_geometry, only: contact_geometry_t, init_strip_contact
   use rd_contact_patch, only: MAX_PATCHES
   use rd_profile_scan, only: profile_scan_t, run_profile_scan, equivalent_conicity
+  use rd_hdf5_writer, only: h5_writer_t
+  use rd_build_info, only: python_command, shell_quote
   implicit none
   private
-  public :: run_profile_scan_command, write_profile_scan_csv
+  public :: run_profile_scan_command, write_profile_scan_csv, write_profile_scan_h5
 
   character(len=*), parameter :: usage = 'usage: raildyn profile-scan [--wheel FILE|s1002] ' // &
     '[--rail FILE|60e1|54e1|uic60] [--inclination 0.025] [--rail-precant 0] [--gauge 1.435] ' // &
     '[--back-to-back 1.360] [--radius 0.46] [--ymax 0.010] [--step 0.0005] [--yaw-per-shift 0] ' // &
-    '[--amplitude 0.003]... [--lowering 5e-6] [--csv OUT.csv]'
+    '[--amplitude 0.003]... [--lowering 5e-6] [--csv OUT.csv] [--h5 OUT.h5] [--plot OUT.png]'
 
 contains
 
   subroutine run_profile_scan_command(args, status)
     character(len=*), intent(in) :: args(:)
     integer, intent(out) :: status
-    character(len=:), allocatable :: wheel_name, rail_name, csv
+    character(len=:), allocatable :: wheel_name, rail_name, csv, h5, plot
     type(track_placement_t) :: pl
     type(surface_options_t) :: opt
     type(profile_t) :: wprof, rprof
@@ -43,11 +45,11 @@ contains
     type(profile_scan_t) :: scan
     type(error_t), allocatable :: error
     real(wp) :: ymax, step, yaw_per_shift, lowering, value, amps(32), lam
-    integer :: i, namp, k
+    integer :: i, namp, k, ios
     logical :: ok
 
     status = 2
-    wheel_name = 's1002'; rail_name = '60e1'; csv = ''
+    wheel_name = 's1002'; rail_name = '60e1'; csv = ''; h5 = ''; plot = ''
     ymax = 0.010_wp; step = 0.0005_wp; yaw_per_shift = 0; lowering = 5.0e-6_wp
     namp = 0
     i = 1
@@ -57,7 +59,7 @@ contains
         write (output_unit, '(a)') usage
         status = 0
         return
-      case ('--wheel', '--rail', '--csv')
+      case ('--wheel', '--rail', '--csv', '--h5', '--plot')
         if (i + 1 > size(args)) then
           call bad(trim(args(i)) // ' expects a value'); return
         end if
@@ -65,6 +67,8 @@ contains
         case ('--wheel'); wheel_name = trim(args(i + 1))
         case ('--rail'); rail_name = trim(args(i + 1))
         case ('--csv'); csv = trim(args(i + 1))
+        case ('--h5'); h5 = trim(args(i + 1))
+        case ('--plot'); plot = trim(args(i + 1))
         end select
         i = i + 2
         cycle
@@ -132,6 +136,25 @@ contains
       end if
       write (output_unit, '(a,f7.4,a,f8.4)') 'equivalent conicity at amplitude ', 1000 * amps(k), ' mm: ', lam
     end do
+    if (len(plot) > 0 .and. len(h5) == 0) h5 = plot(1:index(plot, '.', back=.true.) - 1) // '.h5'
+    if (len(h5) > 0) then
+      call write_profile_scan_h5(h5, scan, wheel_name, rail_name, amps(1:namp), error)
+      if (allocated(error)) then
+        write (error_unit, '(a)') 'raildyn profile-scan: ' // error%message
+        return
+      end if
+      write (output_unit, '(a)') 'wrote ' // h5
+    end if
+    if (len(plot) > 0) then
+      call execute_command_line(python_command() // ' -m raildyn.plots profile-scan ' // &
+                                shell_quote(h5) // ' ' // shell_quote(plot), exitstat=ios)
+      if (ios /= 0) then
+        write (error_unit, '(a)') 'raildyn profile-scan: plotting ' // plot // ' failed (needs Python 3 with ' // &
+          'h5py and matplotlib; the HDF5 file was written)'
+        return
+      end if
+      write (output_unit, '(a)') 'wrote ' // plot
+    end if
     if (len(csv) > 0) then
       call write_profile_scan_csv(csv, scan, error)
       if (allocated(error)) then
@@ -209,4 +232,63 @@ contains
     t = trim(adjustl(b))
   end function num
 
+  !> The scan in the results layout (docs/output.md), with the lateral shift as the axis:
+  !> series `scan/...` per shift, equivalent conicities as root attributes.
+  subroutine write_profile_scan_h5(path, scan, wheel_name, rail_name, amplitudes, error)
+    character(len=*), intent(in) :: path, wheel_name, rail_name
+    type(profile_scan_t), intent(in) :: scan
+    real(wp), intent(in) :: amplitudes(:)
+    type(error_t), allocatable, intent(out) :: error
+    type(h5_writer_t) :: w
+    integer :: id_pose, id_dr, id_n(2), id_p(MAX_PATCHES, 2), k, side, p
+    character(len=5), parameter :: sides(2) = ['left ', 'right']
+    character(len=16) :: tag
+    real(wp) :: lam, vals(5)
+    call w%open(path, error, axis_name='y', axis_unit='m', &
+                axis_description='lateral shift of the wheelset (+ left)')
+    if (allocated(error)) return
+    call w%set_attribute('/', 'wheel_profile', wheel_name, error); if (allocated(error)) return
+    call w%set_attribute('/', 'rail_profile', rail_name, error); if (allocated(error)) return
+    do k = 1, size(amplitudes)
+      lam = equivalent_conicity(scan, amplitudes(k), error)
+      if (allocated(error)) return
+      write (tag, '(f0.1)') 1000 * amplitudes(k)
+      call w%set_attribute('/', 'equivalent_conicity_' // trim(tag) // 'mm', lam, error)
+      if (allocated(error)) return
+    end do
+    call w%add_series('scan/pose', 3, 'rad m rad', 'yaw, height of the wheelset centre and roll ' // &
+                      'at rigid contact', id_pose, error, component_names='yaw z roll')
+    if (allocated(error)) return
+    call w%add_series('scan/delta_r', 1, 'm', 'rolling radius difference left - right (main patches)', &
+                      id_dr, error, component_names='delta_r')
+    if (allocated(error)) return
+    do side = 1, 2
+      call w%add_series('scan/' // trim(sides(side)) // '/n_patches', 1, '1', 'number of contact patches', &
+                        id_n(side), error, component_names='n')
+      if (allocated(error)) return
+      do p = 1, MAX_PATCHES
+        write (tag, '(i0)') p
+        call w%add_series('scan/' // trim(sides(side)) // '/patch' // trim(tag), 5, 'm m m m rad', &
+          'patch by decreasing penetration (zeros when absent): position on the wheel profile, ' // &
+          'on the rail profile, lateral position in the track frame, rolling radius, contact angle', &
+          id_p(p, side), error, component_names='s_wheel u_rail y_rail rolling_radius contact_angle')
+        if (allocated(error)) return
+      end do
+    end do
+    do k = 1, scan%n
+      call w%set(id_pose, [scan%yaw(k), scan%z(k), scan%roll(k)], error); if (allocated(error)) return
+      call w%set(id_dr, [scan%delta_r(k)], error); if (allocated(error)) return
+      do side = 1, 2
+        call w%set(id_n(side), [real(scan%n_patches(side, k), wp)], error); if (allocated(error)) return
+        do p = 1, MAX_PATCHES
+          vals = 0
+          if (p <= scan%n_patches(side, k)) vals = [scan%s_wheel(p, side, k), scan%u_rail(p, side, k), &
+            scan%y_rail(p, side, k), scan%rolling_radius(p, side, k), scan%contact_angle(p, side, k)]
+          call w%set(id_p(p, side), vals, error); if (allocated(error)) return
+        end do
+      end do
+      call w%end_step(scan%y(k), error); if (allocated(error)) return
+    end do
+    call w%close('completed', scan%y(scan%n), 0.0_wp, error)
+  end subroutine write_profile_scan_h5
 end module rd_cmd_profile_scan

@@ -99,6 +99,44 @@ def plot_track(path: str | os.PathLike, out: str | os.PathLike) -> str:
     return os.fspath(out)
 
 
+def plot_profile_scan(path: str | os.PathLike, out: str | os.PathLike) -> str:
+    """The contact table of ``raildyn profile-scan --h5``: contact positions on the rail and
+    the wheel, rolling-radius difference and contact angles against the lateral shift."""
+    plt = _pyplot()
+    with Results(path) as r:
+        y = r.time * 1000.0
+        fig, axes = plt.subplots(2, 2, figsize=(10, 7))
+        (a_rail, a_wheel), (a_dr, a_gam) = axes
+        for side, style in (("left", "b."), ("right", "r.")):
+            n = r.get(f"scan/{side}/n_patches")[:, 0]
+            p = 1
+            while f"scan/{side}/patch{p}" in r.channels():
+                d = r.get(f"scan/{side}/patch{p}")
+                on = n >= p
+                label = side if p == 1 else None
+                a_rail.plot(y[on], d[on, 1] * 1000, style, ms=3, label=label)
+                a_wheel.plot(y[on], d[on, 0] * 1000, style, ms=3, label=label)
+                a_gam.plot(y[on], d[on, 4], style, ms=3, label=label)
+                p += 1
+        a_dr.plot(y, r.get("scan/delta_r")[:, 0] * 1000, "k-")
+        a_rail.set_ylabel("contact on rail profile [mm]")
+        a_wheel.set_ylabel("contact on wheel profile [mm]")
+        a_dr.set_ylabel("r_left - r_right [mm]")
+        a_gam.set_ylabel("contact angle [rad]")
+        for ax in axes.flat:
+            ax.set_xlabel("lateral shift y [mm] (+ left)")
+            ax.grid(True, alpha=0.3)
+        a_rail.legend(fontsize=8)
+        attrs = {k: v for k, v in r.metadata.items() if str(k).startswith("equivalent_conicity")}
+        title = ", ".join(f"{k.replace('equivalent_conicity_', 'lambda_e ')} = {float(v):.3f}"
+                          for k, v in attrs.items())
+        fig.suptitle(title or "profile scan", fontsize=9)
+        fig.tight_layout()
+        fig.savefig(out, dpi=90)
+        plt.close(fig)
+    return os.fspath(out)
+
+
 def main(argv: list[str] | None = None) -> int:
     import argparse
     parser = argparse.ArgumentParser(prog="python -m raildyn.plots",
@@ -107,6 +145,9 @@ def main(argv: list[str] | None = None) -> int:
     p_track = sub.add_parser("track", help="track alignment (from `raildyn track`)")
     p_track.add_argument("file")
     p_track.add_argument("out")
+    p_scan = sub.add_parser("profile-scan", help="contact table (from `raildyn profile-scan --h5`)")
+    p_scan.add_argument("file")
+    p_scan.add_argument("out")
     p_chan = sub.add_parser("channels", help="series over the file's axis")
     p_chan.add_argument("file")
     p_chan.add_argument("out")
@@ -115,6 +156,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.command == "track":
             written = plot_track(args.file, args.out)
+        elif args.command == "profile-scan":
+            written = plot_profile_scan(args.file, args.out)
         else:
             written = plot_channels(args.file, args.out, args.channels or None)
     except (OSError, ValueError, KeyError) as exc:
