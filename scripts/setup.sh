@@ -4,8 +4,11 @@
 # `setup.sh --python` prints the Python interpreter the build and tests use.
 set -euo pipefail
 
+# Build and run: compilers, LAPACK, SUNDIALS, HDF5, Python with numpy/h5py/matplotlib.
+# Tests also: pytest, and a real single-node Slurm (campaigns as job arrays).
 packages=(gfortran gcc cmake ninja-build pkg-config liblapack-dev libsundials-dev libhdf5-dev
-          python3 python3-numpy python3-h5py python3-pytest python3-matplotlib)
+          python3 python3-numpy python3-h5py python3-pytest python3-matplotlib
+          slurmctld slurmd slurm-client munge)
 
 python=/usr/bin/python3
 
