@@ -18,7 +18,7 @@ cmd="${1:-}"
 case "$cmd" in
   setup) "$here/scripts/setup.sh" ;;
   build|run|test)
-    "$here/scripts/setup.sh"
+    if [ "$cmd" = test ]; then "$here/scripts/setup.sh" --tests; else "$here/scripts/setup.sh"; fi
     python="$("$here/scripts/setup.sh" --python)"
     if [ ! -f "$build_dir/CMakeCache.txt" ]; then
       cmake -S "$here" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" \

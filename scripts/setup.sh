@@ -5,10 +5,13 @@
 set -euo pipefail
 
 # Build and run: compilers, LAPACK, SUNDIALS, HDF5, Python with numpy/h5py/matplotlib.
-# Tests also: pytest, and a real single-node Slurm (campaigns as job arrays).
 packages=(gfortran gcc cmake ninja-build pkg-config liblapack-dev libsundials-dev libhdf5-dev
-          python3 python3-numpy python3-h5py python3-pytest python3-matplotlib
-          slurmctld slurmd slurm-client munge)
+          python3 python3-numpy python3-h5py python3-matplotlib)
+# `setup.sh --tests` also: pytest and a real single-node Slurm (campaigns as job arrays).
+test_packages=(python3-pytest slurmctld slurmd slurm-client munge)
+if [ "${1:-}" = "--tests" ]; then
+  packages+=("${test_packages[@]}")
+fi
 
 python=/usr/bin/python3
 
