@@ -17,6 +17,7 @@ module rd_scene
   use rd_speed_law, only: speed_law_t, constant_speed, table_speed
   use rd_hdf5_writer, only: h5_writer_t
   use rd_output_set, only: output_set_t
+  use rd_text, only: int_text, real_text
   use rd_scene_track, only: build_scene_track
   use rd_scene_vehicle, only: build_bodies, build_element, build_external_loads, body_index, &
                               build_wheelset_specs
@@ -411,7 +412,7 @@ contains
       do i = 1, self%outputs%n
         if (.not. all(ieee_is_finite(self%outputs%channels(i)%values))) then
           call make_error(error, RD_ERR_RUNTIME, 'non-finite value in output ' // &
-                          self%outputs%channels(i)%name // ' at t = ' // real_text(self%t))
+                          self%outputs%channels(i)%name // ' at t = ' // trim(real_text(self%t)))
           return
         end if
         call self%writer%set(self%series(i), self%outputs%channels(i)%values, error)
@@ -730,8 +731,8 @@ contains
     real(wp), intent(out) :: y(:)
     type(error_t), allocatable, intent(out) :: error
     if (size(y) /= self%state_size()) then
-      call make_error(error, RD_ERR_INPUT, 'get_state: the array has ' // int_text(size(y)) // &
-                      ' elements; expected the state size ' // int_text(self%state_size()))
+      call make_error(error, RD_ERR_INPUT, 'get_state: the array has ' // trim(int_text(size(y))) // &
+                      ' elements; expected the state size ' // trim(int_text(self%state_size())))
       return
     end if
     if (allocated(self%y)) y = self%y
@@ -748,8 +749,8 @@ contains
     character(len=:), allocatable, intent(out) :: name
     type(error_t), allocatable, intent(out) :: error
     if (index < 1 .or. index > self%outputs%n) then
-      call make_error(error, RD_ERR_INPUT, 'output index ' // int_text(index) // &
-                      ' out of range; expected 1 to ' // int_text(self%outputs%n))
+      call make_error(error, RD_ERR_INPUT, 'output index ' // trim(int_text(index)) // &
+                      ' out of range; expected 1 to ' // trim(int_text(self%outputs%n)))
       name = ''
       return
     end if
@@ -778,8 +779,8 @@ contains
     if (allocated(error)) return
     if (size(values) /= size(self%outputs%channels(id)%values)) then
       call make_error(error, RD_ERR_INPUT, 'output ' // name // ' has ' // &
-                      int_text(size(self%outputs%channels(id)%values)) // ' values; got an array of ' // &
-                      int_text(size(values)))
+                      trim(int_text(size(self%outputs%channels(id)%values))) // ' values; got an array of ' // &
+                      trim(int_text(size(values))))
       return
     end if
     call self%refresh_outputs()
@@ -841,17 +842,17 @@ contains
   function scene_summary(self) result(text)
     class(scene_t), intent(in) :: self
     character(len=:), allocatable :: text
-    text = 'track ' // real_text(self%track%length()) // ' m, ' // &
-           int_text(self%deck%count('segment')) // ' segments, ' // &
-           int_text(self%deck%count('body')) // ' bodies, ' // &
-           int_text(self%deck%count('element')) // ' elements, ' // &
-           int_text(self%deck%count('wheelset')) // ' wheelsets, t_end ' // real_text(self%t_end) // ' s'
+    text = 'track ' // trim(real_text(self%track%length())) // ' m, ' // &
+           trim(int_text(self%deck%count('segment'))) // ' segments, ' // &
+           trim(int_text(self%deck%count('body'))) // ' bodies, ' // &
+           trim(int_text(self%deck%count('element'))) // ' elements, ' // &
+           trim(int_text(self%deck%count('wheelset'))) // ' wheelsets, t_end ' // trim(real_text(self%t_end)) // ' s'
   end function scene_summary
 
   function scene_completion_summary(self) result(text)
     class(scene_t), intent(in) :: self
     character(len=:), allocatable :: text
-    text = 'completed t = ' // real_text(self%t) // ' s, ' // int_text(int(self%output_steps)) // &
+    text = 'completed t = ' // trim(real_text(self%t)) // ' s, ' // trim(int_text(int(self%output_steps))) // &
            ' output steps'
   end function scene_completion_summary
 
@@ -867,19 +868,4 @@ contains
     path = path // suffix
   end function scene_default_output_file
 
-  pure function int_text(i) result(text)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=24) :: buf
-    write (buf, '(i0)') i
-    text = trim(buf)
-  end function int_text
-
-  pure function real_text(x) result(text)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: text
-    character(len=32) :: buf
-    write (buf, '(g0.6)') x
-    text = trim(adjustl(buf))
-  end function real_text
 end module rd_scene

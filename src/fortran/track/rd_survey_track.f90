@@ -18,6 +18,7 @@
 module rd_survey_track
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp, pi
+  use rd_text, only: int_text, real_text
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_IO
   use rd_track_point, only: track_point_t, track_geometry_t
   use rd_track_frame, only: set_track_frame
@@ -73,7 +74,7 @@ contains
       return
     end if
     if (n < 4) then
-      call make_error(error, RD_ERR_INPUT, where // ': ' // trim(itoa(n)) // ' points given, at least 4 are needed')
+      call make_error(error, RD_ERR_INPUT, where // ': ' // trim(int_text(n)) // ' points given, at least 4 are needed')
       return
     end if
     if (.not. (all(ieee_is_finite(x)) .and. all(ieee_is_finite(y)) .and. all(ieee_is_finite(z)) .and. &
@@ -90,7 +91,7 @@ contains
     do i = 2, n
       step = hypot(x(i) - x(i - 1), y(i) - y(i - 1))
       if (step <= 1.0e-9_wp * max(1.0_wp, abs(x(i)), abs(y(i)))) then
-        call make_error(error, RD_ERR_INPUT, where // ': point ' // trim(itoa(i)) // ' repeats point ' // trim(itoa(i - 1)) // &
+        call make_error(error, RD_ERR_INPUT, where // ': point ' // trim(int_text(i)) // ' repeats point ' // trim(int_text(i - 1)) // &
                         ' in plan (x, y); consecutive points must be distinct')
         return
       end if
@@ -98,9 +99,9 @@ contains
     end do
     do i = 1, n
       if (abs(superelevation(i)) >= base .or. abs(superelevation(i)) > gauge_) then
-        call make_error(error, RD_ERR_INPUT, where // ': point ' // trim(itoa(i)) // ': superelevation ' // &
-                        trim(num(superelevation(i))) // ' m: cant larger than the gauge (need |h| < cant_base = ' // &
-                        trim(num(base)) // ' m)')
+        call make_error(error, RD_ERR_INPUT, where // ': point ' // trim(int_text(i)) // ': superelevation ' // &
+                        trim(real_text(superelevation(i))) // ' m: cant larger than the gauge (need |h| < cant_base = ' // &
+                        trim(real_text(base)) // ' m)')
         return
       end if
     end do
@@ -125,7 +126,7 @@ contains
       dpsi = modulo(psi - track%knot_heading(i) + pi, 2 * pi) - pi
       if (abs(dpsi) > 0.5_wp * pi) then
         call make_error(error, RD_ERR_INPUT, where // ': the heading turns by more than 90 degrees between points ' // &
-                        trim(itoa(i)) // ' and ' // trim(itoa(i + 1)) // ': points too sparse for this curvature')
+                        trim(int_text(i)) // ' and ' // trim(int_text(i + 1)) // ': points too sparse for this curvature')
         return
       end if
       track%knot_heading(i + 1) = track%knot_heading(i) + dpsi
@@ -148,14 +149,14 @@ contains
         hmax = max(hmax, abs(horner(track%profile(:, i, 2), d)))
         if (speed(track, i, (track%chord(i + 1) - track%chord(i)) * k / 16) < 0.1_wp) then
           call make_error(error, RD_ERR_INPUT, where // ': the spline through the points folds back between points ' // &
-                          trim(itoa(i)) // ' and ' // trim(itoa(i + 1)) // ': check the point order and spacing')
+                          trim(int_text(i)) // ' and ' // trim(int_text(i + 1)) // ': check the point order and spacing')
           return
         end if
       end do
     end do
     if (hmax >= base) then
-      call make_error(error, RD_ERR_INPUT, where // ': the interpolated superelevation reaches ' // trim(num(hmax)) // &
-                      ' m between points: cant larger than the gauge (cant_base = ' // trim(num(base)) // ' m)')
+      call make_error(error, RD_ERR_INPUT, where // ': the interpolated superelevation reaches ' // trim(real_text(hmax)) // &
+                      ' m between points: cant larger than the gauge (cant_base = ' // trim(real_text(base)) // ' m)')
       return
     end if
     track%first = interior_point(track, 1, 0.0_wp)
@@ -355,7 +356,7 @@ contains
       end do
       if (ntok /= 4 .or. count /= 4) then
         close (unit)
-        call make_error(error, RD_ERR_INPUT, path // ':' // trim(itoa(line_no)) // &
+        call make_error(error, RD_ERR_INPUT, path // ':' // trim(int_text(line_no)) // &
                         ': expected 4 numbers (x y z superelevation, metres), got "' // trim(adjustl(line)) // '"')
         return
       end if
@@ -363,8 +364,8 @@ contains
         if (hypot(values(1) - table(1, n), values(2) - table(2, n)) <= &
             1.0e-9_wp * max(1.0_wp, abs(values(1)), abs(values(2)))) then
           close (unit)
-          call make_error(error, RD_ERR_INPUT, path // ':' // trim(itoa(line_no)) // ': point repeats the previous one (line ' // &
-                          trim(itoa(line_of(n))) // '); consecutive points must be distinct')
+          call make_error(error, RD_ERR_INPUT, path // ':' // trim(int_text(line_no)) // ': point repeats the previous one (line ' // &
+                          trim(int_text(line_of(n))) // '); consecutive points must be distinct')
           return
         end if
       end if
@@ -378,7 +379,7 @@ contains
     end do
     close (unit)
     if (n < 4) then
-      call make_error(error, RD_ERR_INPUT, path // ': ' // trim(itoa(n)) // ' points found, at least 4 are needed ' // &
+      call make_error(error, RD_ERR_INPUT, path // ': ' // trim(int_text(n)) // ' points found, at least 4 are needed ' // &
                       '(columns x y z superelevation, metres)')
       return
     end if
@@ -388,38 +389,5 @@ contains
     h = table(4, 1:n)
   end subroutine read_survey_file
 
-  !> Integer as text (fixed-length result: gfortran 12 mishandles two deferred-length
-  !> function results in one expression).
-  pure function itoa(i) result(text)
-    integer, intent(in) :: i
-    character(len=12) :: text
-    write (text, '(i0)') i
-  end function itoa
 
-  !> Real as text for messages: plain decimal with trailing zeros removed (0.002, 150,
-  !> -0.12) or scientific for very small/large magnitudes (fixed-length result, see itoa).
-  pure function num(x) result(text)
-    real(wp), intent(in) :: x
-    character(len=24) :: text
-    integer :: last
-    if (x == 0) then
-      text = '0'
-    else if (abs(x) >= 1.0e-4_wp .and. abs(x) < 1.0e7_wp) then
-      write (text, '(f0.6)') x
-      last = len_trim(text)
-      do while (text(last:last) == '0')
-        text(last:last) = ' '
-        last = last - 1
-      end do
-      if (text(last:last) == '.') text(last:last) = ' '
-      if (text(1:1) == '.') then
-        text = '0' // text(1:len(text) - 1)
-      else if (text(1:2) == '-.') then
-        text = '-0' // text(2:len(text) - 1)
-      end if
-    else
-      write (text, '(es12.5)') x
-      text = adjustl(text)
-    end if
-  end function num
 end module rd_survey_track

@@ -24,6 +24,7 @@
 module rd_track
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp, pi
+  use rd_text, only: int_text, real_text
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   use rd_track_point, only: track_point_t, track_geometry_t
   use rd_track_frame, only: set_track_frame
@@ -105,7 +106,7 @@ contains
     end if
     if (settings%gauge <= 0 .or. settings%cant_base <= 0) then
       call make_error(error, RD_ERR_INPUT, where // ': gauge and cant_base must be > 0 m, got ' // &
-                      trim(num(settings%gauge)) // ' and ' // trim(num(settings%cant_base)))
+                      trim(real_text(settings%gauge)) // ' and ' // trim(real_text(settings%cant_base)))
       return
     end if
     call check_cant(settings%start_superelevation, settings%gauge, settings%cant_base, where, &
@@ -125,7 +126,7 @@ contains
     s = 0
     do i = 1, n
       where = trim(specs(i)%origin)
-      if (len(where) == 0) where = 'segment ' // trim(itoa(i))
+      if (len(where) == 0) where = 'segment ' // trim(int_text(i))
       where = where // ' (' // trim(specs(i)%kind) // ')'
       call validate_spec(specs(i), settings, k_prev, h_prev, g_prev, where, k1, h1, g1, error)
       if (allocated(error)) return
@@ -185,7 +186,7 @@ contains
       return
     end if
     if (spec%length <= 0) then
-      call make_error(error, RD_ERR_INPUT, where // ': length must be > 0 m, got ' // trim(num(spec%length)))
+      call make_error(error, RD_ERR_INPUT, where // ': length must be > 0 m, got ' // trim(real_text(spec%length)))
       return
     end if
     select case (trim(spec%cant_ramp))
@@ -200,7 +201,7 @@ contains
     case ('straight')
       if (spec%curvature_end /= 0) then
         call make_error(error, RD_ERR_INPUT, where // ': a straight has zero curvature, got curvature_end = ' // &
-                        trim(num(spec%curvature_end)) // ' 1/m (use a curve or a clothoid)')
+                        trim(real_text(spec%curvature_end)) // ' 1/m (use a curve or a clothoid)')
         return
       end if
       k1 = 0
@@ -225,9 +226,9 @@ contains
 
     h1 = spec%superelevation_end
     if (trim(spec%kind) /= 'clothoid' .and. abs(h1 - h_prev) > 1.0e-12_wp) then
-      call make_error(error, RD_ERR_INPUT, where // ': superelevation changes from ' // trim(num(h_prev)) // &
-                      ' m to ' // trim(num(h1)) // ' m on a ' // trim(spec%kind) // &
-                      ': only a clothoid can ramp the cant (set superelevation_end = ' // trim(num(h_prev)) // ')')
+      call make_error(error, RD_ERR_INPUT, where // ': superelevation changes from ' // trim(real_text(h_prev)) // &
+                      ' m to ' // trim(real_text(h1)) // ' m on a ' // trim(spec%kind) // &
+                      ': only a clothoid can ramp the cant (set superelevation_end = ' // trim(real_text(h_prev)) // ')')
       return
     end if
     if (trim(spec%kind) /= 'clothoid') h1 = h_prev
@@ -246,9 +247,9 @@ contains
     character(len=*), intent(in) :: where, name
     type(error_t), allocatable, intent(out) :: error
     if (abs(h) >= cant_base .or. abs(h) > gauge) then
-      call make_error(error, RD_ERR_INPUT, where // ': ' // name // ' = ' // trim(num(h)) // &
+      call make_error(error, RD_ERR_INPUT, where // ': ' // name // ' = ' // trim(real_text(h)) // &
                       ' m: cant larger than the gauge (need |superelevation| < cant_base = ' // &
-                      trim(num(cant_base)) // ' m and <= gauge = ' // trim(num(gauge)) // ' m)')
+                      trim(real_text(cant_base)) // ' m and <= gauge = ' // trim(real_text(gauge)) // ' m)')
     end if
   end subroutine check_cant
 
@@ -268,44 +269,11 @@ contains
     if (k == 0) then
       text = '0 (straight)'
     else
-      text = '1/' // trim(num(1 / abs(k))) // ' m (' // trim(merge('left ', 'right', k > 0)) // ')'
+      text = '1/' // trim(real_text(1 / abs(k))) // ' m (' // trim(merge('left ', 'right', k > 0)) // ')'
     end if
   end function curvature_text
 
-  !> Real as text for messages: plain decimal with trailing zeros removed (0.002, 150,
-  !> -0.12) or scientific for very small/large magnitudes (fixed-length result, see itoa).
-  pure function num(x) result(text)
-    real(wp), intent(in) :: x
-    character(len=24) :: text
-    integer :: last
-    if (x == 0) then
-      text = '0'
-    else if (abs(x) >= 1.0e-4_wp .and. abs(x) < 1.0e7_wp) then
-      write (text, '(f0.6)') x
-      last = len_trim(text)
-      do while (text(last:last) == '0')
-        text(last:last) = ' '
-        last = last - 1
-      end do
-      if (text(last:last) == '.') text(last:last) = ' '
-      if (text(1:1) == '.') then
-        text = '0' // text(1:len(text) - 1)
-      else if (text(1:2) == '-.') then
-        text = '-0' // text(2:len(text) - 1)
-      end if
-    else
-      write (text, '(es12.5)') x
-      text = adjustl(text)
-    end if
-  end function num
 
-  !> Integer as text (fixed-length result: gfortran 12 mishandles two deferred-length
-  !> function results in one expression).
-  pure function itoa(i) result(text)
-    integer, intent(in) :: i
-    character(len=12) :: text
-    write (text, '(i0)') i
-  end function itoa
 
   !> Track frame at local coordinate u of one segment.
   pure subroutine segment_point(seg, u, cant_base, p)
