@@ -40,7 +40,7 @@ contains
     integer :: jseg(rail%n)
     logical :: pos(rail%n)
     real(wp) :: bt(3, 3), d(3), a, cp, sp, cs, ss, ext, ylo, yhi, w, dep
-    integer :: i, ilo, ihi, i1, i2, kmax, np, iw
+    integer :: i, ilo, ihi, i1, i2, np
 
     full_search = .false.
     if (present(exhaustive)) full_search = exhaustive
@@ -119,7 +119,12 @@ contains
       if (dep > 0) pos(i) = .true.
     end do
 
-    ! patches: runs of penetrating strips
+    ! Patches. A run of penetrating strips may hold several bumps of the gap function (tread
+    ! and flange root of one wheel, thesis 4.7.2). One patch per run (the old rule) makes the
+    ! force jump when two runs merge (the valley between them rises above zero: the second
+    ! patch vanished with its full force) and one patch per bump makes it jump when a bump
+    ! fades into the flank of another. split_run blends the two descriptions continuously
+    ! (docs/theory_contact_geometry.md, "Bumps within one run").
     i = ilo
     np = 0
     do while (i <= ihi)
@@ -134,26 +139,92 @@ contains
       end do
       i2 = i
       i = i + 1
-      kmax = i1 - 1 + maxloc(delta(i1:i2), dim=1)
-      if (np < MAX_PATCHES) then
-        np = np + 1
-        iw = np
-      else                                    ! keep the MAX_PATCHES deepest
-        iw = minloc(res%patch(:)%penetration, dim=1)
-        if (res%patch(iw)%penetration >= delta(kmax)) cycle
-      end if
-      call fill_patch(res%patch(iw), i1, i2, kmax)
+      call split_run(i1, i2, np, res%patch)
     end do
     res%n_patches = np
 
   contains
+
+    !> Patches of the run i1..i2. A stretch a..b with a valley (a strip below the maxima on
+    !> both sides; the lowest one, depth v, lower peak d_lo) is, with the split fraction
+    !>    lambda = 1 - v / ((1 - eps) d_lo)   clipped to [0, 1],
+    !> lambda parts two stretches a..kv, kv..b (each handled the same way) and 1 - lambda one
+    !> patch over a..b. Kik & Piotrowski (2008) count two bumps as separate contacts while
+    !> their virtual-penetration regions delta > (1 - eps) d are disjoint, i.e. while the
+    !> valley is below (1 - eps) d_lo; lambda ramps linearly from touching runs (v = 0:
+    !> lambda = 1, the two patches of the separate runs) to connected regions (lambda = 0,
+    !> one patch, also when the lower bump fades into the flank: v -> d_lo). The part is a
+    !> share of normal force: a patch of share w gets the penetration w^(2/3) delta (Hertz,
+    !> N ~ delta^(3/2) at fixed curvatures, so N scales with w). Where lambda > 0 the valley
+    !> is below both bumps' centroid thresholds (1 - eps) d, so the valley strip contributes
+    !> nothing to either centroid and moving the split from one strip to the next is smooth.
+    !> Continuous except where two valleys of one run tie while both split (rare).
+    pure subroutine split_run(i1, i2, np, patch)
+      integer, intent(in) :: i1, i2
+      integer, intent(inout) :: np
+      type(contact_patch_t), intent(inout) :: patch(:)
+      integer, parameter :: stack_size = 32
+      integer :: lo(stack_size), hi(stack_size), top, a, b, kv, k, kc
+      real(wp) :: share(stack_size), wn, v, pmax, smax, lambda
+      top = 1
+      lo(1) = i1; hi(1) = i2; share(1) = 1
+      do while (top > 0)
+        a = lo(top); b = hi(top); wn = share(top)
+        top = top - 1
+        kc = a - 1 + maxloc(delta(a:b), dim=1)
+        ! lowest valley: a strip strictly below the maxima on both of its sides
+        kv = 0
+        v = huge(1.0_wp)
+        pmax = delta(a)
+        do k = a + 1, b - 1
+          if (delta(k) < pmax .and. delta(k) < v) then
+            smax = maxval(delta(k + 1:b))
+            if (delta(k) < smax) then
+              kv = k; v = delta(k)
+            end if
+          end if
+          pmax = max(pmax, delta(k))
+        end do
+        lambda = 0
+        if (kv > 0 .and. top + 2 <= stack_size) then
+          lambda = 1 - v / ((1 - virtual_eps) * min(maxval(delta(a:kv)), maxval(delta(kv:b))))
+          lambda = min(max(lambda, 0.0_wp), 1.0_wp)
+        end if
+        if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, np, patch)
+        if (lambda > 0) then
+          top = top + 1
+          lo(top) = a; hi(top) = kv; share(top) = wn * lambda
+          top = top + 1
+          lo(top) = kv; hi(top) = b; share(top) = wn * lambda
+        end if
+      end do
+    end subroutine split_run
+
+    !> One patch over the stretch a..b (peak strip kc) of the run r1..r2 with force share wn.
+    pure subroutine add_patch(a, b, kc, wn, r1, r2, np, patch)
+      integer, intent(in) :: a, b, kc, r1, r2
+      real(wp), intent(in) :: wn
+      integer, intent(inout) :: np
+      type(contact_patch_t), intent(inout) :: patch(:)
+      real(wp) :: pen
+      integer :: iw
+      pen = wn**(2.0_wp / 3.0_wp) * refined_peak(delta, kc, ilo, ihi)
+      if (np < MAX_PATCHES) then
+        np = np + 1
+        iw = np
+      else                                  ! keep the MAX_PATCHES deepest
+        iw = minloc(patch(:)%penetration, dim=1)
+        if (patch(iw)%penetration >= pen) return
+      end if
+      call fill_patch(patch(iw), a, b, kc, pen, r1, r2)
+    end subroutine add_patch
 
     !> Deepest penetration of rail line i into the wheel (strip i).
     pure subroutine evaluate_line(i, delta, tline, pw, jseg, jprev)
       integer, intent(in) :: i
       real(wp), intent(inout) :: delta(:), tline(:), pw(:, :)
       integer, intent(inout) :: jseg(:), jprev
-      real(wp) :: rel(3), p0(3), proj, t0, rho, py0, pz0, px0, half, best, dep, tau, taub, k, pyb
+      real(wp) :: rel(3), p0(3), proj, t0, rho, py0, pz0, px0, half, best, dep, tau, taub, k, pyb, wy
       integer :: j, jlo, jhi, jb, step
       logical :: found
       rel(2) = rail%y(i) - y
@@ -213,29 +284,36 @@ contains
         best = wheel_radius_at(wheel, py0) - rho    ! far away: radial gap is enough
         taub = 0
       end if
-      k = (wheel%r(jb + 1) - wheel%r(jb)) / (wheel%y(jb + 1) - wheel%y(jb))
-      ! radial depth -> depth normal to the wheel cone (thesis 4.75-4.76: delta ~ d cos(gamma_s))
+      ! radial depth -> depth normal to the wheel surface (thesis 4.75-4.76: delta ~ d
+      ! cos(gamma_s)), with the profile slope interpolated between the points at the deepest
+      ! point: the chord slope of the cone would jump where the deepest point crosses a
+      ! profile point (a 2 % jump of the depth on the flange, where tan(gamma_s) ~ 2.4).
+      wy = (py0 + d(2) * taub - wheel%y(jb)) / (wheel%y(jb + 1) - wheel%y(jb))
+      wy = min(max(wy, 0.0_wp), 1.0_wp)
+      k = wheel%slope(jb) + wy * (wheel%slope(jb + 1) - wheel%slope(jb))
       delta(i) = best / sqrt(1 + k**2)
       tline(i) = t0 + taub
       pw(:, i) = p0 + tline(i) * d
       jseg(i) = jb
     end subroutine evaluate_line
 
-    pure subroutine fill_patch(p, i1, i2, kc)
+    !> Patch over the stretch a..b (peak strip kc) of the run r1..r2, penetration pen.
+    pure subroutine fill_patch(p, a, b, kc, pen, r1, r2)
       type(contact_patch_t), intent(out) :: p
-      integer, intent(in) :: i1, i2, kc
-      real(wp) :: x, w, wl, slope, rr, nrm, te, tx, thr, wsum, qsum
+      integer, intent(in) :: a, b, kc, r1, r2
+      real(wp), intent(in) :: pen
+      real(wp) :: x, w, wl, slope, rr, nrm, te, tx, thr, wsum, qsum, tm1, tm2
       integer :: kk, jw, kc2
       ! Contact point: centroid of the strips inside the virtual-penetration region of
       ! Kik & Piotrowski (VSD 46, 2008), delta_i > (1 - eps) delta_max with their eps = 0.55,
       ! weighted by delta_i - (1 - eps) delta_max. For a Hertzian (parabolic) gap this is
       ! the strip of maximum penetration of eq. 4.77; for the wide, flat gaps of worn or
       ! near-conformal profiles it follows the pressure resultant instead of a flat maximum.
-      ! Strips enter with zero weight, so the point moves continuously with the pose.
-      p%penetration = refined_peak(delta, kc, ilo, ihi)
-      thr = (1 - virtual_eps) * p%penetration
+      ! Over the bump's stretch a..b only (split_run): Kik & Piotrowski's separate regions.
+      p%penetration = pen
+      thr = (1 - virtual_eps) * refined_peak(delta, kc, ilo, ihi)
       wsum = 0; qsum = 0
-      do kk = i1, i2
+      do kk = a, b
         if (delta(kk) > thr) then
           wsum = wsum + (delta(kk) - thr)
           qsum = qsum + (delta(kk) - thr) * (kk - kc)
@@ -251,9 +329,17 @@ contains
       kc2 = kk
       kk = kc2 + 1
       wl = w
-      p%penetration = refined_peak(delta, kc, ilo, ihi)
-      p%point_rail = [lerp(tline(kc2), tline(kk), wl), lerp(rail%y(kc2), rail%y(kk), wl), lerp(rail%z(kc2), rail%z(kk), wl)]
-      p%point_wheel = pw(:, kc2) + w * (pw(:, kk) - pw(:, kc2))
+      ! Along the strip: the middle of the interpenetration chord (entry and exit of the
+      ! rail line through the wheel, eqs. 4.68-4.71), not the deepest point of the line.
+      ! For a Hertzian gap they coincide (the ellipse is symmetric about its centre); on a
+      ! yawed flange root the depth along the line is flat with several maxima, and the
+      ! deepest one jumps between them while the chord moves continuously.
+      call strip_ends(kc2, te, tx)
+      tm1 = 0.5_wp * (te + tx)
+      call strip_ends(kk, te, tx)
+      tm2 = 0.5_wp * (te + tx)
+      p%point_rail = [lerp(tm1, tm2, wl), lerp(rail%y(kc2), rail%y(kk), wl), lerp(rail%z(kc2), rail%z(kk), wl)]
+      p%point_wheel = lerp3(pw(:, kc2) + (tm1 - tline(kc2)) * d, pw(:, kk) + (tm2 - tline(kk)) * d, w)
       p%u_rail = lerp(rail%u(kc2), rail%u(kk), wl)
       p%normal = [0.0_wp, lerp(rail%ny(kc2), rail%ny(kk), wl), lerp(rail%nz(kc2), rail%nz(kk), wl)]
       nrm = norm2(p%normal)
@@ -279,19 +365,20 @@ contains
       else
         p%kind = PATCH_FLANGE
       end if
-      ! extent: zero crossings of the signed penetration at both ends of the run
-      p%u_rail_min = rail%u(i1)
-      if (i1 > ilo .and. delta(i1) > 0) then
-        if (delta(i1 - 1) > -huge(1.0_wp)) then
-          w = delta(i1) / (delta(i1) - delta(i1 - 1))
-          p%u_rail_min = rail%u(i1) + w * (rail%u(i1 - 1) - rail%u(i1))
+      ! extent: zero crossings of the signed penetration at the ends of the run, the valley
+      ! strip where the bump borders another one
+      p%u_rail_min = rail%u(a)
+      if (a == r1 .and. a > ilo .and. delta(a) > 0) then
+        if (delta(a - 1) > -huge(1.0_wp)) then
+          w = delta(a) / (delta(a) - delta(a - 1))
+          p%u_rail_min = rail%u(a) + w * (rail%u(a - 1) - rail%u(a))
         end if
       end if
-      p%u_rail_max = rail%u(i2)
-      if (i2 < ihi .and. delta(i2) > 0) then
-        if (delta(i2 + 1) > -huge(1.0_wp)) then
-          w = delta(i2) / (delta(i2) - delta(i2 + 1))
-          p%u_rail_max = rail%u(i2) + w * (rail%u(i2 + 1) - rail%u(i2))
+      p%u_rail_max = rail%u(b)
+      if (b == r2 .and. b < ihi .and. delta(b) > 0) then
+        if (delta(b + 1) > -huge(1.0_wp)) then
+          w = delta(b) / (delta(b) - delta(b + 1))
+          p%u_rail_max = rail%u(b) + w * (rail%u(b + 1) - rail%u(b))
         end if
       end if
       call strip_ends(kc, te, tx)
@@ -352,6 +439,12 @@ contains
       j = j + 1
     end do
   end function hunt
+
+  pure function lerp3(u, v, w) result(r)
+    real(wp), intent(in) :: u(3), v(3), w
+    real(wp) :: r(3)
+    r = u + w * (v - u)
+  end function lerp3
 
   pure real(wp) function lerp(u, v, w)
     real(wp), intent(in) :: u, v, w
