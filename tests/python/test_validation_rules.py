@@ -238,8 +238,6 @@ def test_every_case_deck_exists_and_cites_sources():
     assert "default.nml" in SCENES
 
 
-@pytest.mark.xfail(strict=True, reason="the Manchester scene stalls at flange-contact onset, so "
-                   "inputs/default.nml runs the TGV 001 vehicle for now (open validation issue)")
 def test_default_scene_is_manchester():
     assert [p.name for p in V.deck_files(V.INPUTS / "default.nml")][1] == "manchester_v1_tc1.nml"
 
