@@ -101,17 +101,9 @@ def main():
     text = "\n".join(lines)
     print(text)
     if not args.no_write:
-        perf = REPO / "docs" / "performance.md"
-        doc = perf.read_text()
-        block = f"<!-- BEGIN scenes -->\n{text}\n<!-- END scenes -->"
-        if "<!-- BEGIN scenes -->" in doc:
-            a = doc.index("<!-- BEGIN scenes -->")
-            b = doc.index("<!-- END scenes -->") + len("<!-- END scenes -->")
-            doc = doc[:a] + block + doc[b:]
-        else:
-            doc = doc.rstrip() + "\n\n" + block + "\n"
-        perf.write_text(doc)
-
+        sys.path.insert(0, str(REPO / "bench"))
+        from performance_section import write_section
+        write_section("scenes", text)
 
 if __name__ == "__main__":
     main()
