@@ -17,6 +17,7 @@
 !> results of the last evaluation in `results` for the outputs.
 module rd_wheelset_contact
   use rd_kinds, only: wp
+  use rd_text, only: int_text
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_PHYSICS
   use rd_rotation, only: cross
   use rd_body_kinematics, only: body_kinematics_t
@@ -172,13 +173,13 @@ contains
     force = 0
     moment = 0
     if (.not. kin%is_wheelset) then
-      call make_error(error, RD_ERR_INPUT, 'wheelset contact ' // itoa(i) // &
+      call make_error(error, RD_ERR_INPUT, 'wheelset contact ' // trim(int_text(i)) // &
                       ': the body is not a wheelset (its spin must be a separate angle)')
       return
     end if
     ! a NaN velocity would reach the creep laws' comparisons (FP traps in Debug builds)
     if (.not. (all(finite(kin%v)) .and. all(finite(kin%omega)) .and. all(finite(kin%track%a)))) then
-      call make_error(error, RD_ERR_RUNTIME, 'wheelset contact ' // itoa(i) // ' at t = ' // rtoa(t) // &
+      call make_error(error, RD_ERR_RUNTIME, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // rtoa(t) // &
                       ' s: non-finite wheelset velocity or track frame')
       return
     end if
@@ -191,7 +192,7 @@ contains
         m%cache_valid = .false.
         call wheelset_contact(m%geo, pose(1), pose(2), pose(3), pose(4), geo_res(1), geo_res(2), error)
         if (allocated(error)) then
-          call error_context(error, 'wheelset contact ' // itoa(i) // ' at t = ' // rtoa(t) // ' s')
+          call error_context(error, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // rtoa(t) // ' s')
           return
         end if
         m%cache_geo = geo_res
@@ -202,7 +203,7 @@ contains
         call wheel_pipeline(m, side, kin, geo_res(side), res%wheel(side), fw, mw)
         call check_wheel(m, geo_res(side), res%wheel(side), fw, mw, error)
         if (allocated(error)) then
-          call error_context(error, 'wheelset contact ' // itoa(i) // ', ' // side_name(side) // &
+          call error_context(error, 'wheelset contact ' // trim(int_text(i)) // ', ' // side_name(side) // &
                              ' wheel, t = ' // rtoa(t) // ' s')
           return
         end if
@@ -373,13 +374,6 @@ contains
     end if
   end function side_name
 
-  pure function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: b
-    write (b, '(i0)') i
-    s = trim(b)
-  end function itoa
 
   pure function rtoa(x) result(s)
     real(wp), intent(in) :: x

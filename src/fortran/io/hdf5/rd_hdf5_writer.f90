@@ -34,6 +34,7 @@ module rd_hdf5_writer
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use hdf5
   use rd_kinds, only: wp, i8
+  use rd_text, only: int_text
   use rd_error, only: error_t, make_error, error_context, RD_ERR_IO, RD_ERR_INPUT, &
                       RD_ERR_HANDLE
   implicit none
@@ -259,7 +260,7 @@ contains
     nunit = count_words(unit)
     if (nunit /= 1 .and. nunit /= ncomp) then
       call make_error(error, RD_ERR_INPUT, 'h5_writer%add_series("' // name // '"): unit "' // &
-                      trim(unit) // '" must be one unit or ' // int_str(ncomp) // &
+                      trim(unit) // '" must be one unit or ' // trim(int_text(ncomp)) // &
                       ' space-separated units')
       return
     end if
@@ -267,7 +268,7 @@ contains
       names = trim(adjustl(component_names))
       if (count_words(names) /= ncomp) then
         call make_error(error, RD_ERR_INPUT, 'h5_writer%add_series("' // name // &
-                        '"): component_names "' // names // '" must have ' // int_str(ncomp) // &
+                        '"): component_names "' // names // '" must have ' // trim(int_text(ncomp)) // &
                         ' space-separated names')
         return
       end if
@@ -276,7 +277,7 @@ contains
     else
       names = 'c1'
       do k = 2, ncomp
-        names = names // ' c' // int_str(k)
+        names = names // ' c' // trim(int_text(k))
       end do
     end if
     do k = 1, self%nseries
@@ -451,21 +452,21 @@ contains
       return
     end if
     if (id < 1 .or. id > self%nseries) then
-      call make_error(error, RD_ERR_INPUT, 'h5_writer%set: invalid series id ' // int_str(id) // &
+      call make_error(error, RD_ERR_INPUT, 'h5_writer%set: invalid series id ' // trim(int_text(id)) // &
                       ' for "' // self%filename // '"')
       return
     end if
     associate (s => self%series(id))
       if (size(values) /= s%ncomp) then
         call make_error(error, RD_ERR_INPUT, 'h5_writer%set("' // s%path // '"): got ' // &
-                        int_str(size(values)) // ' values, expected ' // int_str(s%ncomp))
+                        trim(int_text(size(values))) // ' values, expected ' // trim(int_text(s%ncomp)))
         return
       end if
       do k = 1, s%ncomp
         if (.not. ieee_is_finite(values(k))) then
           call make_error(error, RD_ERR_INPUT, 'h5_writer%set: non-finite value in series "' // &
-                          s%path // '" component ' // int_str(k) // ' at output step ' // &
-                          int_str8(self%nwritten + self%nbuffered + 1) // ' of "' // &
+                          s%path // '" component ' // trim(int_text(k)) // ' at output step ' // &
+                          trim(int_text(self%nwritten + self%nbuffered + 1)) // ' of "' // &
                           self%filename // '"')
           return
         end if
@@ -492,7 +493,7 @@ contains
     nrows = self%nwritten + self%nbuffered
     if (.not. ieee_is_finite(time)) then
       call make_error(error, RD_ERR_INPUT, 'h5_writer%end_step: non-finite time at output step ' // &
-                      int_str8(nrows + 1) // ' of "' // self%filename // '"')
+                      trim(int_text(nrows + 1)) // ' of "' // self%filename // '"')
       return
     end if
     if (nrows > 0 .and. .not. (time > self%last_time)) then
@@ -998,21 +999,7 @@ contains
     end do
   end function count_words
 
-  pure function int_str(value) result(text)
-    integer, intent(in) :: value
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write (buffer, '(i0)') value
-    text = trim(buffer)
-  end function int_str
 
-  pure function int_str8(value) result(text)
-    integer(i8), intent(in) :: value
-    character(len=:), allocatable :: text
-    character(len=24) :: buffer
-    write (buffer, '(i0)') value
-    text = trim(buffer)
-  end function int_str8
 
   pure function real_str(value) result(text)
     real(wp), intent(in) :: value
