@@ -7,7 +7,7 @@
 module rd_capi
   use, intrinsic :: iso_c_binding
   use rd_kinds, only: wp
-  use rd_error, only: error_t, make_error, RD_OK, RD_ERR_INPUT, RD_ERR_HANDLE, RD_ERR_INTERNAL
+  use rd_error, only: error_t, RD_OK, RD_ERR_HANDLE
   use rd_scene, only: scene_t, raildyn_version
   implicit none
   private

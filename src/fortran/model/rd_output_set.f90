@@ -6,7 +6,7 @@
 !> refreshes the values whenever outputs are requested.
 module rd_output_set
   use rd_kinds, only: wp
-  use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_INTERNAL
+  use rd_error, only: error_t, make_error, RD_ERR_INPUT
   implicit none
   private
   public :: output_channel_t, output_set_t
