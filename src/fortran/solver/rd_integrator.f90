@@ -3,6 +3,11 @@
 !> | method  | engine                         | use                                          |
 !> |---------|--------------------------------|----------------------------------------------|
 !> | 'bdf'   | CVODE BDF 1-5, modified Newton, dense LU by LAPACK (custom SUNLinearSolver) | stiff (default) |
+!>
+!> The BDF Newton matrix uses CVODE's dense difference-quotient Jacobian (one RHS call per
+!> state), an analytic `jacobian`, or coloured difference quotients from a
+!> `jacobian_sparsity` (rd_coloured_jacobian: one RHS call per column group, same
+!> increments as CVODE's).
 !> | 'adams' | CVODE Adams-Moulton 1-12, fixed-point (functional) iteration | smooth, non-stiff |
 !> | 'erk'   | ARKODE ERKStep, Dormand-Prince 5(4) | non-stiff, cheap steps                 |
 !> | 'rk4'   | classical Runge-Kutta, fixed step (Fortran) | deterministic, real-time style   |
@@ -29,6 +34,7 @@ module rd_integrator
                                     validate_settings, method_id_from_name, METHOD_BDF, &
                                     METHOD_ADAMS, METHOD_ERK, METHOD_RK4, METHOD_HEUN
   use rd_rhs_context, only: rhs_context_t, jacobian_i, real_to_text, RHS_OK, RHS_RECOVERABLE
+  use rd_coloured_jacobian, only: jacobian_sparsity_t
   use rd_fixed_step, only: fixed_step_work_t, rk4_step, heun_step
   use rd_sundials_glue, only: rd_glue_create, rd_glue_destroy, rd_glue_set_tolerances, &
                               rd_glue_set_limits, rd_glue_use_jacobian, rd_glue_advance, &
@@ -36,7 +42,7 @@ module rd_integrator
                               rd_glue_last_message, c_string_to_fortran
   implicit none
   private
-  public :: integrator_t, integrator_settings_t, integrator_stats_t, jacobian_i
+  public :: integrator_t, integrator_settings_t, integrator_stats_t, jacobian_i, jacobian_sparsity_t
 
   integer, parameter :: msg_len = 1024
 
@@ -73,13 +79,16 @@ module rd_integrator
     procedure, private :: advance_fixed
     procedure, private :: report_sundials_failure
     procedure, private :: sundials_text
+    procedure, private :: engine_stats
   end type integrator_t
 
 contains
 
   !> Build the integrator for `system` from (t0, y0). `jacobian` (optional, method 'bdf'
-  !> only, ignored by the others) replaces CVODE's difference-quotient Jacobian.
-  subroutine init(self, system, t0, y0, settings, error, jacobian)
+  !> only, ignored by the others) replaces CVODE's difference-quotient Jacobian;
+  !> `jacobian_sparsity` (same) replaces it by coloured difference quotients (one RHS call
+  !> per column group). At most one of the two.
+  subroutine init(self, system, t0, y0, settings, error, jacobian, jacobian_sparsity)
     class(integrator_t), intent(inout) :: self
     class(ode_system_t), target, intent(inout) :: system
     real(wp), intent(in) :: t0
@@ -87,6 +96,7 @@ contains
     type(integrator_settings_t), intent(in) :: settings
     type(error_t), allocatable, intent(out) :: error
     procedure(jacobian_i), optional :: jacobian
+    type(jacobian_sparsity_t), intent(in), optional :: jacobian_sparsity
 
     character(kind=c_char) :: cmsg(msg_len)
     real(c_double), allocatable, target :: atol_copy(:)
@@ -118,6 +128,20 @@ contains
       call error_context(error, 'integrator init')
       return
     end if
+    if (present(jacobian) .and. present(jacobian_sparsity)) then
+      call make_error(error, RD_ERR_INPUT, 'both an analytic jacobian and a jacobian_sparsity ' // &
+                      'were given; expected at most one')
+      call error_context(error, 'integrator init')
+      return
+    end if
+    if (present(jacobian_sparsity)) then
+      if (jacobian_sparsity%n /= self%n) then
+        call make_error(error, RD_ERR_INPUT, 'jacobian_sparsity is for ' // itoa(jacobian_sparsity%n) // &
+                        ' states but the system has ' // itoa(self%n) // '; expected one column per state')
+        call error_context(error, 'integrator init')
+        return
+      end if
+    end if
 
     self%settings = settings
     self%method = method_id_from_name(settings%method)
@@ -126,6 +150,8 @@ contains
     allocate (self%context)
     self%context%system => system
     if (present(jacobian)) self%context%jacobian => jacobian
+    if (present(jacobian_sparsity) .and. self%method == METHOD_BDF) &
+      allocate (self%context%sparsity, source=jacobian_sparsity)
 
     select case (self%method)
     case (METHOD_BDF, METHOD_ADAMS, METHOD_ERK)
@@ -146,8 +172,8 @@ contains
                                                  settings%min_step, settings%initial_step, &
                                                  int(settings%max_num_steps, c_long), &
                                                  int(settings%max_order, c_int))
-        if (flag == 0 .and. present(jacobian) .and. self%method == METHOD_BDF) &
-          flag = rd_glue_use_jacobian(self%glue)
+        if (flag == 0 .and. (present(jacobian) .or. present(jacobian_sparsity)) .and. &
+            self%method == METHOD_BDF) flag = rd_glue_use_jacobian(self%glue)
         if (flag /= 0) call make_error(error, RD_ERR_RUNTIME, self%method_name() // &
                                        ': ' // self%sundials_text(int(flag)))
       end if
@@ -371,7 +397,7 @@ contains
     end if
     if (c_associated(self%glue)) then
       ! SUNDIALS resets its counters on reinit: bank them first.
-      call self%get_stats(stats)
+      call self%engine_stats(stats)
       self%before_reinit = stats
       flag = rd_glue_reinit(self%glue, t, y)
       if (flag /= 0) then
@@ -387,8 +413,18 @@ contains
     self%reinits = self%reinits + 1
   end subroutine reinit
 
-  !> Counters cumulative since init (see integrator_stats_t).
+  !> Counters cumulative since init (see integrator_stats_t). The RHS calls of coloured
+  !> Jacobians are counted by the context (CVODE only counts its own difference quotients).
   subroutine get_stats(self, stats)
+    class(integrator_t), intent(in) :: self
+    type(integrator_stats_t), intent(out) :: stats
+    call self%engine_stats(stats)
+    if (associated(self%context)) &
+      stats%rhs_evals_jacobian = stats%rhs_evals_jacobian + self%context%rhs_evals_jacobian
+  end subroutine get_stats
+
+  !> The engine's counters (SUNDIALS' summed over reinits, or the fixed-step loop's).
+  subroutine engine_stats(self, stats)
     class(integrator_t), intent(in) :: self
     type(integrator_stats_t), intent(out) :: stats
     integer(c_long) :: counts(8)
@@ -414,7 +450,7 @@ contains
       stats%next_step = self%settings%fixed_step
     end if
     stats%reinits = self%reinits
-  end subroutine get_stats
+  end subroutine engine_stats
 
   !> Free the SUNDIALS memory and work arrays; the integrator can be init'ed again.
   subroutine destroy(self)

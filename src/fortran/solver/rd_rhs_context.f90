@@ -1,6 +1,7 @@
 !> The object an integrator hands to its stepping engine (SUNDIALS through the C glue,
-!> or the fixed-step Runge-Kutta loop): the ODE system, an optional analytic Jacobian,
-!> and the last failure the right-hand side reported (kept so `advance` can quote it).
+!> or the fixed-step Runge-Kutta loop): the ODE system, an optional analytic Jacobian or
+!> coloured difference-quotient sparsity (rd_coloured_jacobian), and the last failure
+!> the right-hand side reported (kept so `advance` can quote it).
 !>
 !> Every RHS evaluation of every method goes through `evaluate_rhs`, which turns the
 !> system's error object into SUNDIALS' return convention (0 ok, > 0 recoverable,
@@ -10,6 +11,7 @@ module rd_rhs_context
   use rd_kinds, only: wp, i8
   use rd_error, only: error_t, make_error, error_context, RD_ERR_RUNTIME
   use rd_ode_system, only: ode_system_t
+  use rd_coloured_jacobian, only: jacobian_sparsity_t, dq_minimum_increment, dq_increment
   implicit none
   private
   public :: rhs_context_t, jacobian_i, real_to_text, RHS_OK, RHS_RECOVERABLE, RHS_FATAL
@@ -35,6 +37,11 @@ module rd_rhs_context
   type :: rhs_context_t
     class(ode_system_t), pointer :: system => null()
     procedure(jacobian_i), pointer, nopass :: jacobian => null()
+    !> Column groups of the coloured difference-quotient Jacobian (method 'bdf'); used
+    !> instead of `jacobian` when allocated.
+    type(jacobian_sparsity_t), allocatable :: sparsity
+    !> RHS calls made by coloured Jacobians (SUNDIALS does not see them as its own).
+    integer(i8) :: rhs_evals_jacobian = 0
     type(error_t), allocatable :: rhs_error   !< last failure reported by the RHS or Jacobian
     integer(i8) :: rhs_failures = 0           !< RHS calls that failed (recoverable or not)
     !> Set by an unrecoverable RHS failure; until cleared (next advance / reinit) every
@@ -45,6 +52,7 @@ module rd_rhs_context
   contains
     procedure :: evaluate_rhs
     procedure :: evaluate_jacobian
+    procedure :: evaluate_coloured_jacobian
   end type rhs_context_t
 
 contains
@@ -123,6 +131,55 @@ contains
     end if
     status = RHS_OK
   end function evaluate_jacobian
+
+  !> jac = df/dy at (t, y) by coloured forward differences (rd_coloured_jacobian): one RHS
+  !> call per column group, CVODE's increments from its current step h and error weights
+  !> ewt, exact zeros outside the pattern. y_work and f_work are scratch of size n (CVODE's
+  !> temporary vectors), so nothing is allocated. A failed RHS call returns its status
+  !> (recoverable: CVODE retries the step with a smaller h, as with its own DQ Jacobian).
+  function evaluate_coloured_jacobian(self, t, y, fy, h, ewt, y_work, f_work, jac) result(status)
+    class(rhs_context_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    real(wp), intent(in) :: fy(:)
+    real(wp), intent(in) :: h
+    real(wp), intent(in) :: ewt(:)
+    real(wp), intent(out) :: y_work(:)
+    real(wp), intent(out) :: f_work(:)
+    real(wp), intent(out) :: jac(:, :)
+    integer :: status
+    real(wp) :: min_inc, inc
+    integer :: g, k, j, r, i
+
+    jac = 0.0_wp
+    if (self%fatal) then
+      status = RHS_FATAL
+      return
+    end if
+    status = RHS_OK
+    min_inc = dq_minimum_increment(h, fy, ewt)
+    y_work = y
+    associate (sp => self%sparsity)
+      do g = 1, sp%n_groups
+        do k = sp%group_start(g), sp%group_start(g + 1) - 1
+          j = sp%group_columns(k)
+          y_work(j) = y(j) + dq_increment(y(j), ewt(j), min_inc)
+        end do
+        status = self%evaluate_rhs(t, y_work, f_work)
+        self%rhs_evals_jacobian = self%rhs_evals_jacobian + 1
+        if (status /= RHS_OK) return
+        do k = sp%group_start(g), sp%group_start(g + 1) - 1
+          j = sp%group_columns(k)
+          inc = dq_increment(y(j), ewt(j), min_inc)
+          do r = sp%row_start(j), sp%row_start(j + 1) - 1
+            i = sp%rows(r)
+            jac(i, j) = (f_work(i) - fy(i)) / inc
+          end do
+          y_work(j) = y(j)
+        end do
+      end do
+    end associate
+  end function evaluate_coloured_jacobian
 
   !> Short text for a real in messages (e.g. "1.2345678E-03").
   function real_to_text(x) result(s)

@@ -120,20 +120,30 @@ contains
     status = int(context%evaluate_rhs(t, y, ydot), c_int)
   end function rd_solver_rhs_callback
 
-  !> CVODE's Jacobian callback: jac (n x n, column-major) = df/dy at (t, y), fy = f(t, y).
-  function rd_solver_jac_callback(t, y, fy, jac, n, user) result(status) &
+  !> CVODE's Jacobian callback: jac (n x n, column-major) = df/dy at (t, y), fy = f(t, y),
+  !> by coloured difference quotients when the context holds a sparsity (with CVODE's
+  !> current step h and error weights ewt; work1/work2 scratch), else by the analytic
+  !> Jacobian procedure.
+  function rd_solver_jac_callback(t, y, fy, jac, n, h, ewt, work1, work2, user) result(status) &
       bind(C, name='rd_solver_jac_callback')
     integer(c_int64_t), value :: n
     real(c_double), value :: t
     real(c_double), intent(in) :: y(n)
     real(c_double), intent(in) :: fy(n)
     real(c_double), intent(out) :: jac(n, n)
+    real(c_double), value :: h
+    real(c_double), intent(in) :: ewt(n)
+    real(c_double), intent(out) :: work1(n), work2(n)
     type(c_ptr), value :: user
     integer(c_int) :: status
     type(rhs_context_t), pointer :: context
 
     call c_f_pointer(user, context)
-    status = int(context%evaluate_jacobian(t, y, fy, jac), c_int)
+    if (allocated(context%sparsity)) then
+      status = int(context%evaluate_coloured_jacobian(t, y, fy, h, ewt, work1, work2, jac), c_int)
+    else
+      status = int(context%evaluate_jacobian(t, y, fy, jac), c_int)
+    end if
   end function rd_solver_jac_callback
 
   !> Copy a NUL-terminated C buffer into a Fortran string.

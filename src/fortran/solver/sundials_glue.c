@@ -8,9 +8,9 @@
  * handle (one per integrator, so two integrators never share state) and calls
  * the rd_glue_* functions through bind(C) interfaces.
  *
- * The right-hand side and the optional analytic Jacobian are computed by two
- * bind(C) Fortran procedures (rd_solver_rhs_callback, rd_solver_jac_callback in
- * rd_integrator.f90). They receive the `user` pointer given at creation, which
+ * The right-hand side and the optional Jacobian (analytic, or coloured difference
+ * quotients) are computed by two bind(C) Fortran procedures (rd_solver_rhs_callback,
+ * rd_solver_jac_callback in rd_sundials_glue.f90). They receive the `user` pointer given at creation, which
  * points to the Fortran wrapper object holding the ode_system_t. Return codes
  * follow SUNDIALS: 0 ok, > 0 recoverable (retry with a smaller step), < 0 fatal.
  *
@@ -57,7 +57,8 @@ enum { RD_GLUE_BDF = 1, RD_GLUE_ADAMS = 2, RD_GLUE_ERK = 3 };
 extern int rd_solver_rhs_callback(double t, const double *y, double *ydot, int64_t n,
                                   void *user);
 extern int rd_solver_jac_callback(double t, const double *y, const double *fy,
-                                  double *jac, int64_t n, void *user);
+                                  double *jac, int64_t n, double h, const double *ewt,
+                                  double *work1, double *work2, void *user);
 
 /* LAPACK (column-major, 32-bit integers as in Debian's reference/OpenBLAS LAPACK). */
 extern void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv,
@@ -187,14 +188,18 @@ static int rd_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data) {
                                 g->user);
 }
 
+/* The Jacobian callback also gets what CVODE's own difference quotient uses (its current
+ * step h and error weights ewt, in tmp1) and two scratch vectors (tmp2, tmp3), so a
+ * coloured difference quotient can choose the same increments without allocating. */
 static int rd_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J, void *user_data,
                   N_Vector tmp1, N_Vector tmp2, N_Vector tmp3) {
-  (void)tmp1;
-  (void)tmp2;
-  (void)tmp3;
   rd_glue_t *g = (rd_glue_t *)user_data;
+  sunrealtype h = 0.0;
+  if (CVodeGetCurrentStep(g->mem, &h) != 0) return -1;
+  if (CVodeGetErrWeights(g->mem, tmp1) != 0) return -1;
   return rd_solver_jac_callback(t, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
-                                SUNDenseMatrix_Data(J), g->n, g->user);
+                                SUNDenseMatrix_Data(J), g->n, h, N_VGetArrayPointer(tmp1),
+                                N_VGetArrayPointer(tmp2), N_VGetArrayPointer(tmp3), g->user);
 }
 
 /* Keep SUNDIALS' error text for the caller instead of printing it on stderr. */
