@@ -1022,30 +1022,138 @@ PLANAR_WHEELSETS = {"wheelset": 1, "bogie": 2, "vehicle": 4}
 TGV_YAW_INERTIA = dict(wheelset=799.35, bogie=4063.712, car=2.43e6)
 #: TGV secondary lateral damping per spring [N s/m] (table 5.6).
 TGV_SECONDARY_CY = 3.5e4
+#: Wheelset spin inertia Iyy [kg m2] (table 5.8) and the primary vertical stiffness kz [N/m] and
+#: damping cz [N s/m] per spring (table 5.4) at +-dp: the roll restraint of the wheelsets by the
+#: bogie frame in the knife-edge terms of ``lateral_stability``. The single-wheelset deck
+#: (inputs/tgv_wheelset.nml) has no vertical springs.
+TGV_WHEELSET_IYY = 93.75
+TGV_PRIMARY_VERTICAL = dict(kz=9.75e5, cz=1.08e4)
 
 
-def lateral_stability(kind: str, f11: float, f22: float, speed: float) -> complex:
-    """Least-damped eigenvalue [1/s] of the linear lateral/yaw dynamics of the TGV bogie or
-    vehicle on straight track (the classical linear model of Wickens 1965 / Iwnicki's handbook
-    ch. 7, with the bodies and springs of ``tgv_planar_model``): per wheelset
-    m y'' = -2 f22 (y'/V - psi) + springs, Iz psi'' = -2 f11 e0 (e0 psi'/V + lam y/r0) + springs;
-    springs between attachment points (lateral k at lever X - x_b, yaw k), secondary lateral
-    dampers. Neglected: gyroscopic yaw-roll coupling, spin creep, gravitational stiffness (zero
-    for cones), roll. Real part > 0: the motion grows (hunting)."""
+@dataclass
+class KnifeEdgeContact:
+    """The straight-running contact state the knife-edge terms of ``lateral_stability`` need,
+    per wheel: Kalker coefficients f11 = G a b C11, f22 = G a b C22 [N], f23 = G (ab)^1.5 C23
+    [N m] (thesis eqs. 3.39-3.43) and the normal force N0 [N] of the centred wheelset."""
+    f11: float
+    f22: float
+    f23: float = 0.0
+    normal_force: float | None = None      #: None: the static wheel load of the model's masses
+
+
+def _static_normal_force(kind: str) -> float:
+    """Normal force [N] per wheel of a centred wheelset from the masses it carries (Q / cos d,
+    spin forces' vertical share neglected): the wheelset, half a bogie frame and for the vehicle
+    a quarter of the car body; the single-wheelset deck adds the vehicle's axle load."""
+    p, q = TGV_BOGIE, TGV_VEHICLE
+    if kind == "wheelset":
+        w = p["m_w"] + (q["m_c"] + 2 * p["m_b"]) / 4
+    else:
+        w = p["m_w"] + p["m_b"] / 2 + (q["m_c"] / 4 if kind == "vehicle" else 0.0)
+    return 0.5 * w * STANDARD_GRAVITY / math.cos(math.atan(p["lam"]))
+
+
+def knife_edge_wheelset_terms(contact: KnifeEdgeContact, speed: float, roll_stiffness: float = 0.0,
+                              roll_damping: float = 0.0, iyy: float = TGV_WHEELSET_IYY,
+                              p: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Linear lateral force F and yaw moment M on one conical wheelset on knife-edge rails
+    (wheels: cones of slope lam = tan d, rails: lines at +-e0), F = -(K q + C q'), q = (y, psi),
+    as (K, C), each 2x2 (rows F, M). Derived to first order for rigid contacts (the Hertz
+    approach, ~3e-5 m, is neglected against the geometry) and quasi-static roll, every term from
+    the rigid-body kinematics of the cone and Kalker's linear law (thesis 3.6, 5.3.3):
+
+    - roll follows the lateral shift: the left rail point lies on the cone at axial coordinate
+      e0 - y - r0 phi, so sin(phi) ~ (r_L - r_R)/(2 e0) gives phi = s y, s = lam/(e0 - r0 lam),
+      and the rolling radii r_L,R = r0 +- lam_e y with lam_e = lam e0/(e0 - r0 lam) (the
+      classical cone model has phi = 0 and lam_e = lam; here +6% for the TGV);
+    - longitudinal creepages -+(lam_e y/r0 + e0 psi'/V): yaw moment -2 f11 e0 (lam_e y/r0 + e0 psi'/V);
+    - lateral creepage of the wheel's material point, (y' + r0 phi') cos d + e0 phi' sin d in the
+      contact plane, minus psi (cos d + lam sin d) from the yawed spin (the contact point sits
+      r0 lam psi ahead of the wheel's lowest point): eta = (kap y'/V - psi)/cos d, kap = e0/(e0 - r0 lam);
+      on the track's Y axis the lateral creep forces give F_cr = -2 f22 (kap y'/V - psi);
+    - load transfer: the roll balance of the wheelset, ell (N_L - N_R) + m_c (Fy_L + Fy_R) +
+      M_0 = -Iyy Omega psi' (gyroscopic, Omega = V/r0), with ell = e0 cos d - r0 sin d the lever
+      of a normal force and m_c = e0 sin d + r0 cos d that of a lateral creep force (contact
+      frame) about the centre of mass, and M_0 = -2 N0 (cos d + m_c s) y - k_roll s y - c_roll s y'
+      the moment of the unchanged normal forces moved by y and phi and of the primary vertical
+      springs (bogie frame roll neglected). N_L - N_R acts laterally through the inclined
+      normals (-sin d each) and through the spin force of the cone, Fs = f23 sin(d)/r0 per wheel
+      (outwards), which grows with the load (f23 ~ (ab)^1.5 ~ N): g = Fs/N0 - sin d per newton;
+    - the normal forces turned by the roll: -2 N0 cos(d) s y;
+    - spin creepages (omega . n / V_ref, thesis 3.6.1.3) sum to (sin d/r0)(lam_e y/r0 + e0 psi'/V)
+      + 2 psi' cos(d)/V over the two wheels (lateral force -f23 cos d times that) and give the spin
+      moments 2 f23 (kap y'/V - psi); the yaw-rate gyroscopic moment is -Iyy Omega s y'.
+
+    f33 terms (~1e-5 of the others) are left out. With f23 = 0 and N0 = 0 (and the kinematic
+    factors set to 1) this is the classical model of Wickens / Iwnicki's handbook ch. 7."""
+    p = p or TGV_BOGIE
+    e0, r0, lam = p["e0"], p["r0"], p["lam"]
+    d = math.atan(lam)
+    sd, cd = math.sin(d), math.cos(d)
+    f11, f22, f23 = contact.f11, contact.f22, contact.f23
+    n0 = contact.normal_force or 0.0
+    s = lam / (e0 - r0 * lam)
+    lam_e = lam * e0 / (e0 - r0 * lam)
+    kap = e0 / (e0 - r0 * lam)
+    ell = e0 * cd - r0 * sd
+    m_c = e0 * sd + r0 * cd
+    g = (f23 * sd / r0 / n0 if n0 > 0 else 0.0) - sd
+    omega = speed / r0
+    Fq, Fv = np.zeros((2, 2)), np.zeros((2, 2))          # F = Fq q + Fv q'
+    cr_q, cr_v = np.array([0.0, 2 * f22]), np.array([-2 * f22 * kap / speed, 0.0])
+    Fq[0] += cr_q
+    Fv[0] += cr_v
+    # load transfer N_L - N_R = dq q + dv q' and its lateral force g (N_L - N_R)
+    dq = (-m_c * cr_q / cd + np.array([2 * n0 * (cd + m_c * s) + roll_stiffness * s, 0.0])) / ell
+    dv = (-m_c * cr_v / cd + np.array([roll_damping * s, -iyy * omega])) / ell
+    Fq[0] += g * dq
+    Fv[0] += g * dv
+    Fq[0, 0] += -2 * n0 * cd * s
+    # spin creep: lateral forces and spin moments
+    Fq[0, 0] += -cd * f23 * sd / r0 * lam_e / r0
+    Fv[0, 1] += -cd * f23 * (sd / r0 * e0 / speed + 2 * cd / speed)
+    Fv[1, 0] += 2 * f23 * kap / speed
+    Fq[1, 1] += -2 * f23
+    # longitudinal creep and gyroscopic yaw moment
+    Fq[1, 0] += -2 * f11 * e0 * lam_e / r0
+    Fv[1, 1] += -2 * f11 * e0 ** 2 / speed
+    Fv[1, 0] += -iyy * omega * s
+    return -Fq, -Fv
+
+
+def lateral_stability(kind: str, f11: float | KnifeEdgeContact, f22: float | None = None,
+                      speed: float = 0.0) -> complex:
+    """Least-damped eigenvalue [1/s] of the linear lateral/yaw dynamics of the TGV wheelset,
+    bogie or vehicle on straight track, with the bodies and springs of ``tgv_planar_model``:
+    body masses and yaw inertias, springs between attachment points (lateral k at lever
+    X - x_b, yaw k), secondary lateral dampers, and per wheelset the knife-edge contact of
+    ``knife_edge_wheelset_terms`` (Wickens 1965 / Iwnicki's handbook ch. 7 extended by the
+    knife-edge roll kinematics, load transfer, spin creep and gyroscopic terms, which shift the
+    growth rate of the TGV bogie by more than its size: docs/validation.md). ``f11`` is either
+    a KnifeEdgeContact or f11 [N] with ``f22`` [N] (then f23 = 0 and the static wheel load).
+    Real part > 0: the motion grows (hunting)."""
+    contact = f11 if isinstance(f11, KnifeEdgeContact) else KnifeEdgeContact(float(f11), float(f22))
+    if contact.normal_force is None:
+        contact = KnifeEdgeContact(contact.f11, contact.f22, contact.f23, _static_normal_force(kind))
+    if not speed > 0:
+        raise ValueError(f"lateral_stability: speed {speed!r} m/s; expected > 0")
     p = TGV_BOGIE
+    roll_k = roll_c = 0.0
+    if kind != "wheelset":        # wheelset deck: ground springs without kz (its header)
+        roll_k = 2 * TGV_PRIMARY_VERTICAL["kz"] * p["dp"] ** 2
+        roll_c = 2 * TGV_PRIMARY_VERTICAL["cz"] * p["dp"] ** 2
+    kw, cw = knife_edge_wheelset_terms(contact, speed, roll_k, roll_c)
     bodies, springs = tgv_planar_model(kind)
     n = 2 * len(bodies)
     M, C, K = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
     idx = {b.name: i for i, b in enumerate(bodies)}
     for i, b in enumerate(bodies):
         M[2 * i, 2 * i] = b.mass
-        kind = "wheelset" if b.wheelset else ("car" if b.name == "car" else "bogie")
-        M[2 * i + 1, 2 * i + 1] = TGV_YAW_INERTIA[kind]
+        kind_b = "wheelset" if b.wheelset else ("car" if b.name == "car" else "bogie")
+        M[2 * i + 1, 2 * i + 1] = TGV_YAW_INERTIA[kind_b]
         if b.wheelset:
-            C[2 * i, 2 * i] += 2 * f22 / speed
-            K[2 * i, 2 * i + 1] += -2 * f22
-            C[2 * i + 1, 2 * i + 1] += 2 * f11 * p["e0"] ** 2 / speed
-            K[2 * i + 1, 2 * i] += 2 * f11 * p["e0"] * p["lam"] / p["r0"]
+            K[2 * i:2 * i + 2, 2 * i:2 * i + 2] += kw
+            C[2 * i:2 * i + 2, 2 * i:2 * i + 2] += cw
     for s in springs:
         ib = idx[s.body_b]
         d = np.zeros(n)      # relative lateral displacement at the attachment: d . q
@@ -1065,9 +1173,10 @@ def lateral_stability(kind: str, f11: float, f22: float, speed: float) -> comple
     return complex(ev[int(np.argmax(ev.real))])
 
 
-def linear_critical_speed(kind: str, f11: float, f22: float, lo: float = 1.0, hi: float = 300.0) -> float:
+def linear_critical_speed(kind: str, f11: float | KnifeEdgeContact, f22: float | None = None, lo: float = 1.0,
+                          hi: float = 300.0) -> float:
     """Lowest speed [m/s] at which ``lateral_stability`` turns unstable (scan, then bisection
-    to 0.01 m/s); inf if stable up to ``hi``."""
+    to 0.01 m/s); inf if stable up to ``hi``. Arguments as ``lateral_stability``."""
     grid = np.linspace(lo, hi, 300)
     unstable = [v for v in grid if lateral_stability(kind, f11, f22, v).real > 0]
     if not unstable:
@@ -1132,35 +1241,47 @@ STANDARD_GRAVITY = 9.80665
 TGV_CURVE = dict(radius=1000.0, cant=0.050, cant_base=1.5)
 
 
-def identify_creep_series(ctx: Context, wheelsets: Sequence[str], t_from: float,
-                          results: Results | None = None) -> tuple[float, float]:
-    """f11, f22 [N] by least squares over the samples after t_from of every wheelset:
-    (Fx_R - Fx_L) = -f11 (xi_R - xi_L) and (Fy_L + Fy_R) = -f22 (eta_L + eta_R) - f23 (phi_L + phi_R)
-    (the constant spin of a cone's two wheels cancels in the sums; the part from the yaw rate
-    does not, hence f23 as a second unknown, discarded)."""
+def identify_knife_edge_contact(ctx: Context, wheelsets: Sequence[str], t_from: float,
+                                results: Results | None = None) -> KnifeEdgeContact:
+    """The run's own contact state for ``lateral_stability``, from the samples after t_from of
+    every wheel of the wheelsets: Kalker's linear law (thesis eqs. 3.39-3.43) scales with the
+    contact ellipse as Fx = -k11 (ab) xi, Fy = -k22 (ab) eta - k23 (ab)^1.5 phi, so k11 is fitted
+    to Fx and k22, k23 together to Fy by least squares over all samples of all wheels (the ellipse
+    of each sample from the outputs), and f11 = k11 ab0, f22 = k22 ab0, f23 = k23 ab0^1.5 at the
+    mean ab0; N0 is the mean normal force. Fitting per wheel with the ellipse keeps the load
+    transfer out of the coefficients: a fit of the wheel sums Fy_L + Fy_R against eta and phi
+    alone takes the spin force that moves with the load (f23 ~ N) for part of f22 (-7% on the
+    TGV bogie, docs/validation.md)."""
     t = ctx.time(results)
     m = t >= t_from
-    dx, df, se, sp, sf = [], [], [], [], []
+    cols = {k: [] for k in ("xi", "eta", "phi", "fx", "fy", "ab", "n")}
     for w in wheelsets:
-        v = {}
         for side in ("left", "right"):
             base = f"wheelsets/{w}/{side}/contact1"
-            v[side] = [ctx.get(f"{base}/{ch}", results)[m] for ch in (
-                "creepage:xi", "creepage:eta", "creepage:phi", "creep_force_contact:fx",
-                "creep_force_contact:fy")]
-        dx.append(v["right"][0] - v["left"][0])
-        df.append(v["right"][3] - v["left"][3])
-        se.append(v["right"][1] + v["left"][1])
-        sp.append(v["right"][2] + v["left"][2])
-        sf.append(v["right"][4] + v["left"][4])
-    dx, df, se, sp, sf = (np.concatenate(x) for x in (dx, df, se, sp, sf))
-    if not (np.dot(dx, dx) > 0 and np.dot(se, se) > 0):
+            for k, ch in (("xi", "creepage:xi"), ("eta", "creepage:eta"), ("phi", "creepage:phi"),
+                          ("fx", "creep_force_contact:fx"), ("fy", "creep_force_contact:fy"),
+                          ("n", "normal_force:N")):
+                cols[k].append(ctx.get(f"{base}/{ch}", results)[m])
+            cols["ab"].append(ctx.get(f"{base}/ellipse:a", results)[m] * ctx.get(f"{base}/ellipse:b", results)[m])
+    xi, eta, phi, fx, fy, ab, n = (np.concatenate(cols[k]) for k in ("xi", "eta", "phi", "fx", "fy", "ab", "n"))
+    if not (ab.size and np.all(ab > 0)):
+        raise CaseError("no loaded contact ellipse in the samples: cannot identify the creep coefficients")
+    ab0 = float(np.mean(ab))
+    u = ab / ab0 * xi
+    v = ab / ab0 * eta
+    w = (ab / ab0) ** 1.5 * phi
+    if not (np.dot(u, u) > 0 and np.dot(v, v) > 0):
         raise CaseError("zero creepages: cannot identify the creep coefficients")
-    f11 = float(-np.dot(df, dx) / np.dot(dx, dx))
+    f11 = float(-np.dot(fx, u) / np.dot(u, u))
     # scale the columns so that lstsq's rank decision is unit-free
-    cols = np.column_stack([se / np.linalg.norm(se), sp / max(np.linalg.norm(sp), 1e-300)])
-    coef = np.linalg.lstsq(cols, -sf, rcond=1e-9)[0]
-    return f11, float(coef[0] / np.linalg.norm(se))
+    nv, nw = np.linalg.norm(v), max(np.linalg.norm(w), 1e-300)
+    coef = np.linalg.lstsq(np.column_stack([v / nv, w / nw]), -fy, rcond=1e-9)[0]
+    return KnifeEdgeContact(f11, float(coef[0] / nv), float(coef[1] / nw), float(np.mean(n)))
+
+
+def _contact_text(c: KnifeEdgeContact) -> str:
+    return (f"f11 = {c.f11:.4g} N, f22 = {c.f22:.4g} N, f23 = {c.f23:.4g} N m, "
+            f"N0 = {c.normal_force:.4g} N")
 
 
 def _kind_linear_stability(ctx, row, what: str):
@@ -1168,12 +1289,12 @@ def _kind_linear_stability(ctx, row, what: str):
     kind = row["channel"]
     nws = PLANAR_WHEELSETS[kind]
     t0 = float(row["t_from"])
-    f11, f22 = identify_creep_series(ctx, [f"w{k}" for k in range(1, nws + 1)], t0)
+    contact = identify_knife_edge_contact(ctx, [f"w{k}" for k in range(1, nws + 1)], t0)
     V = ctx.speed()
-    ev = lateral_stability(kind, f11, f22, V)
+    ev = lateral_stability(kind, contact, speed=V)
     t, y = _window(ctx, row, "bodies/ws1/position_track:y")
     thr = float(row["threshold"])
-    info = f"linear model with the run's own f11 = {f11:.4g} N, f22 = {f22:.4g} N at {V:g} m/s"
+    info = f"linear model with the run's own {_contact_text(contact)} at {V:g} m/s"
     if what == "rate":
         rate, npk = growth_rate(t, y)
         allowed = thr * abs(ev.real) + 0.1
@@ -1250,13 +1371,13 @@ def _kind_linear_critical_speed(ctx, row):
     vc = ctx.cache["critical_speed"]
     if "creep_coefficients" not in ctx.cache:
         raise CaseError("no probe run to identify the creep coefficients from")
-    f11, f22 = ctx.cache["creep_coefficients"]
-    vc_model = linear_critical_speed("bogie", f11, f22)
+    contact = ctx.cache["creep_coefficients"]
+    vc_model = linear_critical_speed("bogie", contact)
     thr = float(row["threshold"])
     allowed = thr * vc_model
     ctx.check(row["id"], abs(vc - vc_model) <= allowed + CRITICAL_SPEED_RESOLUTION / 2, vc,
               f"{vc_model:.4g} +- {allowed + CRITICAL_SPEED_RESOLUTION / 2:.2g}", "m/s",
-              f"linear model with f11 = {f11:.4g} N, f22 = {f22:.4g} N identified from the "
+              f"linear model with {_contact_text(contact)} identified from the "
               f"{ctx.cache['creep_coefficients_speed']:g} m/s probe; {row['justification']}")
 
 
@@ -1281,7 +1402,8 @@ def critical_speed_bisection(ctx: Context, row: dict) -> float:
             rate, npk = growth_rate(t[m], y[m])
             best = ctx.cache.get("creep_coefficients_speed", -1.0)
             if v > best:      # identified at the fastest probe (largest creepages of the runs)
-                ctx.cache["creep_coefficients"] = identify_creep_series(ctx, ["w1", "w2"], float(row["t_from"]), res)
+                ctx.cache["creep_coefficients"] = identify_knife_edge_contact(ctx, ["w1", "w2"], float(row["t_from"]),
+                                                                              res)
                 ctx.cache["creep_coefficients_speed"] = v
         rows.append([f"{v:.3f}", f"{rate:.4g}", npk, "growth" if rate > 0 else "decay"])
         return rate

@@ -39,12 +39,6 @@ KNOWN_FAILURES = {
         strict=True, reason="Polach vs FASTSIM: shifts and yaw agree, the wheels' lateral forces "
                             "differ by 2.4 times the allowed difference (ws1 right 10.8 vs 5.9 kN); "
                             "open"),
-    "tgv_bogie_straight_40": pytest.mark.xfail(
-        strict=True, reason="hunting grows at 0.18 1/s where the linear model of the harness "
-                            "predicts 0.60 1/s (30% band); open physics question"),
-    "tgv_bogie_critical_speed": pytest.mark.xfail(
-        strict=True, reason="critical speed 36.6 m/s by bisection vs 30.7 m/s from the linear "
-                            "model (19% apart, 15% limit); open physics question"),
 }
 
 
