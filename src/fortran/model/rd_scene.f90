@@ -33,7 +33,9 @@ module rd_scene
   use rd_force_provider, only: force_provider_t
   use rd_external_loads, only: external_loads_t
   use rd_static_preload, only: solve_static_preloads, solve_static_positions
-  use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t
+  use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t, &
+                           jacobian_sparsity_t
+  use rd_scene_jacobian, only: scene_jacobian_sparsity
   use rd_linear_spring_damper, only: linear_spring_damper_t
   use rd_nonlinear_spring, only: nonlinear_spring_t
   use rd_series_spring_damper, only: series_spring_damper_t
@@ -60,6 +62,9 @@ module rd_scene
     character(len=64), allocatable :: wheelset_names(:)
     type(integrator_t), pointer :: integrator => null()
     type(integrator_settings_t) :: solver
+    !> Newton-matrix Jacobian of 'bdf' (&solver jacobian): 'coloured' difference quotients
+    !> (rd_scene_jacobian) or CVODE's 'dense' ones.
+    character(len=:), allocatable :: jacobian
     real(wp), allocatable :: y(:)        !< integrator state at time t
     integer :: nbodies = 0
     character(len=:), allocatable :: equilibrium
@@ -99,6 +104,8 @@ module rd_scene
     procedure :: completion_summary => scene_completion_summary
     procedure :: default_output_file => scene_default_output_file
     procedure :: vehicle_sigma => scene_vehicle_sigma
+    procedure :: integrator_stats => scene_integrator_stats
+    procedure :: system => scene_system
     procedure :: destroy => scene_destroy
     procedure, private :: build_mechanics
     procedure, private :: start_mechanics
@@ -572,6 +579,7 @@ contains
     call self%deck%get('solver', 1, 'max_num_steps', self%solver%max_num_steps, error); if (allocated(error)) return
     call self%deck%get('solver', 1, 'fixed_step', self%solver%fixed_step, error); if (allocated(error)) return
     call self%deck%get('solver', 1, 'max_order', self%solver%max_order, error); if (allocated(error)) return
+    call self%deck%get('solver', 1, 'jacobian', self%jacobian, error); if (allocated(error)) return
   end subroutine build_mechanics
 
   !> Initial state: elements at their nominal length in the initial configuration,
@@ -612,7 +620,24 @@ contains
       return
     end if
     allocate (self%integrator)
-    call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error)
+    if (self%solver%method == 'bdf' .and. self%jacobian == 'coloured') then
+      ! Bodies that share no force are perturbed in the same RHS call (rd_scene_jacobian);
+      ! a provider without stated coupling keeps CVODE's dense difference quotients.
+      block
+        type(jacobian_sparsity_t) :: sparsity
+        character(len=:), allocatable :: dense_reason
+        call scene_jacobian_sparsity(self%mbs, sparsity, dense_reason, error)
+        if (allocated(error)) return
+        if (allocated(dense_reason)) then
+          call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error)
+        else
+          call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error, &
+                                    jacobian_sparsity=sparsity)
+        end if
+      end block
+    else
+      call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error)
+    end if
     if (allocated(error)) call error_context(error, self%deck%origin('solver', 1))
   end subroutine start_mechanics
 
@@ -696,6 +721,23 @@ contains
   end subroutine close_output
 
   ! ------------------------------------------------------------------ queries
+  !> The integrator's counters so far (all zero before initialize or without bodies).
+  subroutine scene_integrator_stats(self, stats)
+    class(scene_t), intent(in) :: self
+    type(integrator_stats_t), intent(out) :: stats
+    if (associated(self%integrator)) then
+      if (self%integrator%is_initialized()) call self%integrator%get_stats(stats)
+    end if
+  end subroutine scene_integrator_stats
+
+  !> The multibody system the integrator advances (null before build or without bodies),
+  !> for tools and tests that evaluate its right-hand side; the scene owns it.
+  function scene_system(self) result(mbs)
+    class(scene_t), intent(in) :: self
+    type(multibody_t), pointer :: mbs
+    mbs => self%mbs
+  end function scene_system
+
   pure real(wp) function scene_time(self)
     class(scene_t), intent(in) :: self
     scene_time = self%t

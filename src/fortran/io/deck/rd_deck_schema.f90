@@ -276,7 +276,10 @@ contains
       pint('max_num_steps', '-', 'steps allowed between two outputs', 100000, min=1), &
       preal('fixed_step', 's', 'step of the fixed-step rk4 method', default=1.0e-4_wp, min=zero, &
             min_open=.true., cond='used by rk4 only'), &
-      pint('max_order', '-', 'largest method order; 0 = method default', 0, min=0, max=12)])
+      pint('max_order', '-', 'largest method order; 0 = method default', 0, min=0, max=12), &
+      pstr('jacobian', 'Newton-matrix Jacobian of bdf: difference quotients grouping bodies ' // &
+           'that share no force element (coloured) or one state at a time (dense, CVODE)', &
+           default='coloured', allowed='coloured|dense', cond='used by bdf only')])
 
     p = pstr('file', 'results file (HDF5), relative to the deck unless absolute')
     p = path_param(p, .false.)
