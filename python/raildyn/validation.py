@@ -1132,7 +1132,12 @@ def lateral_stability(kind: str, f11: float | KnifeEdgeContact, f22: float | Non
     growth rate of the TGV bogie by more than its size: docs/validation.md). ``f11`` is either
     a KnifeEdgeContact or f11 [N] with ``f22`` [N] (then f23 = 0 and the static wheel load).
     Real part > 0: the motion grows (hunting)."""
-    contact = f11 if isinstance(f11, KnifeEdgeContact) else KnifeEdgeContact(float(f11), float(f22))
+    if isinstance(f11, KnifeEdgeContact):
+        contact = f11
+    elif f22 is None:
+        raise ValueError("lateral_stability: f22 missing; expected f11, f22 [N] or a KnifeEdgeContact")
+    else:
+        contact = KnifeEdgeContact(float(f11), float(f22))
     if contact.normal_force is None:
         contact = KnifeEdgeContact(contact.f11, contact.f22, contact.f23, _static_normal_force(kind))
     if not speed > 0:

@@ -517,6 +517,18 @@ def test_tgv_bogie_model_data_match_the_deck():
     assert "radius = 1000.0, side = 'left', cant = 0.050" in track
 
 
+def test_knife_edge_model_data_match_the_deck():
+    """The wheelset spin inertia and the primary vertical springs/dampers of the knife-edge
+    terms of the linear stability model are the deck's (tables 5.4, 5.8)."""
+    text = (V.INPUTS / "vehicles" / "tgv001_bogie.nml").read_text()
+    assert f"iyy = {V.TGV_WHEELSET_IYY}" in text
+    kz, cz = V.TGV_PRIMARY_VERTICAL["kz"], V.TGV_PRIMARY_VERTICAL["cz"]
+    stiff = f"{V.TGV_BOGIE['kx']:.2e}, {V.TGV_BOGIE['ky']:.2e}, {kz:.2e}".replace("e+0", "e")
+    assert text.count(f"stiffness = {stiff}, damping = 0.0, 0.0, {cz:.2e}".replace("e+0", "e")) == 4
+    with pytest.raises(ValueError, match="f22 missing"):
+        V.lateral_stability("bogie", 4e6, speed=20.0)
+
+
 def test_vehicle_model_reduces_to_two_bogies():
     """Invariance: with the car body decoupled (no secondary stiffness, no mass) the vehicle
     model is two copies of the bogie model; with the car coupled, each bogie carries half the
