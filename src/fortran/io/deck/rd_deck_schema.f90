@@ -298,6 +298,12 @@ contains
             min=zero, max=0.1_wp), &
       path_param(pstr('survey_file', 'track survey points instead of &segment groups', &
                       cond='no &segment allowed when given'), .true.), &
+      path_param(pstr('irregularity_file', 'track irregularities: text columns sigma alignment level ' // &
+                      'cross_level gauge [m] (signs: docs/conventions.md)'), .true.), &
+      preal('irregularity_scale', '-', 'factor on every irregularity offset', default=1.0_wp, &
+            min=zero, cond='used with irregularity_file'), &
+      preal('irregularity_fade', 'm', 'length of the linear fade-in after the first and fade-out ' // &
+            'before the last irregularity point', default=zero, min=zero, cond='used with irregularity_file'), &
       preal('start_heading', 'rad', 'heading of the track at sigma = 0', default=zero), &
       vec3('start_position', 'm', 'fixed-frame position of the track at sigma = 0')])
 
