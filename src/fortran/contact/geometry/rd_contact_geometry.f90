@@ -100,11 +100,18 @@ contains
   !> Both wheels. Pose: lateral y, vertical z [m] of the wheelset centre in its track frame,
   !> roll phi, yaw psi [rad] (docs/conventions.md). Fails on a non-finite pose or an
   !> uninitialised geometry.
-  pure subroutine wheelset_contact(geo, y, z, phi, psi, left, right, error)
+  !>
+  !> rail_offset(:, side) = (dy, dz) [m]: that rail displaced in the track frame (track
+  !> irregularities, rd_track_irregularity). A translated rail seen from a wheel is the
+  !> nominal rail seen from the pose (y - dy, z - dz); the rail points found are shifted back
+  !> by (dy, dz). Normals, curvatures, penetrations and the wheel points (relative to the
+  !> wheelset centre) are invariant under the translation.
+  pure subroutine wheelset_contact(geo, y, z, phi, psi, left, right, error, rail_offset)
     type(contact_geometry_t), intent(in) :: geo
     real(wp), intent(in) :: y, z, phi, psi
     type(wheel_contact_t), intent(out) :: left, right
     type(error_t), allocatable, intent(out) :: error
+    real(wp), intent(in), optional :: rail_offset(2, 2)
     if (geo%model == 0) then
       call make_error(error, RD_ERR_INPUT, 'wheelset_contact: contact geometry not initialised')
       return
@@ -119,8 +126,27 @@ contains
         '(|y| < 1 m, |z| < 10 m, |roll|, |yaw| < 1 rad)')
       return
     end if
-    call wheel_contact(geo, SIDE_LEFT, y, z, phi, psi, left)
-    call wheel_contact(geo, SIDE_RIGHT, y, z, phi, psi, right)
+    if (present(rail_offset)) then
+      if (.not. all(ieee_is_finite(rail_offset))) then
+        call make_error(error, RD_ERR_RUNTIME, 'wheelset_contact: rail offset is not finite (NaN or Inf)')
+        return
+      end if
+      call offset_wheel_contact(SIDE_LEFT, left)
+      call offset_wheel_contact(SIDE_RIGHT, right)
+    else
+      call wheel_contact(geo, SIDE_LEFT, y, z, phi, psi, left)
+      call wheel_contact(geo, SIDE_RIGHT, y, z, phi, psi, right)
+    end if
+  contains
+    pure subroutine offset_wheel_contact(side, res)
+      integer, intent(in) :: side
+      type(wheel_contact_t), intent(out) :: res
+      integer :: k
+      call wheel_contact(geo, side, y - rail_offset(1, side), z - rail_offset(2, side), phi, psi, res)
+      do k = 1, res%n_patches
+        res%patch(k)%point_rail(2:3) = res%patch(k)%point_rail(2:3) + rail_offset(:, side)
+      end do
+    end subroutine offset_wheel_contact
   end subroutine wheelset_contact
 
 end module rd_contact_geometry

@@ -30,6 +30,7 @@ module rd_wheelset_contact
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, validate_wheelset_contact_spec, &
     build_contact_geometry, build_hertz_params, build_creep_law, flange_tip_coordinate
   use rd_wheel_contact_result, only: patch_result_t, wheel_result_t, wheelset_result_t
+  use rd_track_irregularity, only: track_irregularity_t
   implicit none
   private
   public :: wheelset_contact_t, wheelset_model_t, SIDE_LEFT, SIDE_RIGHT
@@ -57,16 +58,20 @@ module rd_wheelset_contact
     !> has bitwise the same pose: a finite-difference Jacobian perturbs one state per RHS
     !> call, and only 4 of a scene's states move a given wheelset's geometry, which is ~75 %
     !> of the RHS cost (docs/performance.md). Exact: same input, same result.
+    !> With track irregularities the key also holds the rail offsets (dy, dz per side).
     logical :: cache_valid = .false.
-    real(wp) :: cache_pose(4) = 0
+    real(wp) :: cache_pose(8) = 0
     type(wheel_contact_t) :: cache_geo(2)
   end type wheelset_model_t
 
   type, extends(force_provider_t) :: wheelset_contact_t
     type(wheelset_model_t), allocatable :: models(:)
     type(wheelset_result_t), allocatable :: results(:)   !< last evaluation, per wheelset
+    !> Track irregularities seen by every wheelset (none when not allocated).
+    type(track_irregularity_t), allocatable :: irregularity
   contains
     procedure :: init => wheelset_contact_init
+    procedure :: set_irregularity => wheelset_contact_set_irregularity
     procedure :: add_forces => wheelset_contact_add_forces
     procedure :: evaluate => wheelset_contact_evaluate
     procedure :: wheelset_count
@@ -127,6 +132,21 @@ contains
     end subroutine build_one
   end subroutine wheelset_contact_init
 
+  !> Rails displaced by track irregularities (docs/theory_track.md): each wheelset's contact
+  !> sees both rails offset by `irregularity%rail_offsets` at its track position. Call after
+  !> init, before the first evaluation.
+  subroutine wheelset_contact_set_irregularity(self, irregularity)
+    class(wheelset_contact_t), intent(inout) :: self
+    type(track_irregularity_t), intent(in) :: irregularity
+    integer :: i
+    self%irregularity = irregularity
+    if (allocated(self%models)) then
+      do i = 1, size(self%models)
+        self%models(i)%cache_valid = .false.
+      end do
+    end if
+  end subroutine wheelset_contact_set_irregularity
+
   pure integer function wheelset_count(self)
     class(wheelset_contact_t), intent(in) :: self
     wheelset_count = 0
@@ -168,7 +188,7 @@ contains
     real(wp), intent(out) :: force(3), moment(3)
     type(error_t), allocatable, intent(out) :: error
     type(wheel_contact_t) :: geo_res(2)
-    real(wp) :: fw(3), mw(3), pose(4)
+    real(wp) :: fw(3), mw(3), pose(8)
     integer :: side
     force = 0
     moment = 0
@@ -184,13 +204,20 @@ contains
       return
     end if
     associate (m => self%models(i), res => self%results(i))
-      ! thesis eq. 4.78: the geometry needs only the intermediate frame (y, z, roll, yaw)
-      pose = [kin%q(2), kin%q(3), kin%q(5), kin%q(4)]
+      ! thesis eq. 4.78: the geometry needs only the intermediate frame (y, z, roll, yaw),
+      ! plus the rail offsets of the track irregularities at the wheelset centre's track
+      ! position sigma + x (the rails are displaced, the rail material stays at rest, so the
+      ! creepages need no extra term)
+      pose(1:4) = [kin%q(2), kin%q(3), kin%q(5), kin%q(4)]
+      pose(5:8) = 0
+      if (allocated(self%irregularity)) &
+        pose(5:8) = reshape(self%irregularity%rail_offsets(kin%track%sigma + kin%q(1)), [4])
       if (m%cache_valid .and. all(pose == m%cache_pose)) then
         geo_res = m%cache_geo
       else
         m%cache_valid = .false.
-        call wheelset_contact(m%geo, pose(1), pose(2), pose(3), pose(4), geo_res(1), geo_res(2), error)
+        call wheelset_contact(m%geo, pose(1), pose(2), pose(3), pose(4), geo_res(1), geo_res(2), error, &
+                              rail_offset=reshape(pose(5:8), [2, 2]))
         if (allocated(error)) then
           call error_context(error, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // rtoa(t) // ' s')
           return
