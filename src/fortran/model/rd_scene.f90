@@ -18,7 +18,8 @@ module rd_scene
   use rd_hdf5_writer, only: h5_writer_t
   use rd_output_set, only: output_set_t
   use rd_text, only: int_text, real_text
-  use rd_scene_track, only: build_scene_track
+  use rd_scene_track, only: build_scene_track, build_scene_irregularity
+  use rd_track_irregularity, only: track_irregularity_t
   use rd_scene_vehicle, only: build_bodies, build_element, build_external_loads, body_index, &
                               build_wheelset_specs
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
@@ -552,12 +553,17 @@ contains
     if (self%deck%count('wheelset') > 0) then
       block
         type(wheelset_contact_spec_t), allocatable :: specs(:)
+        type(track_irregularity_t), allocatable :: irregularity
         character(len=:), allocatable :: name
         call build_wheelset_specs(self%deck, specs, error)
         if (allocated(error)) return
         allocate (self%contact)
         call self%contact%init(specs, self%nbodies, error)
         if (allocated(error)) return
+        ! track irregularities displace the rails under every wheelset (rd_track_irregularity)
+        call build_scene_irregularity(self%deck, irregularity, error)
+        if (allocated(error)) return
+        if (allocated(irregularity)) call self%contact%set_irregularity(irregularity)
         allocate (self%wheelset_names(size(specs)))
         do i = 1, size(specs)
           call self%deck%get('wheelset', i, 'name', name, error); if (allocated(error)) return

@@ -11,9 +11,10 @@ module rd_scene_track
   use rd_track_point, only: track_geometry_t
   use rd_track, only: track_t, track_settings_t, segment_spec_t, build_track, GRADIENT_UNCHANGED
   use rd_survey_track, only: survey_track_t, build_survey_track, read_survey_file
+  use rd_track_irregularity, only: track_irregularity_t, build_track_irregularity, read_irregularity_file
   implicit none
   private
-  public :: build_scene_track
+  public :: build_scene_track, build_scene_irregularity
 
 contains
 
@@ -61,6 +62,38 @@ contains
     if (allocated(error)) return
     call move_alloc(segment_track, track)
   end subroutine build_scene_track
+
+  !> Track irregularities of `&track irregularity_file` (path relative to the deck), scaled
+  !> by irregularity_scale and faded in over irregularity_fade. `irregularity` stays
+  !> unallocated when the deck names no file. File errors name the file and line, and the
+  !> deck line that names the file.
+  subroutine build_scene_irregularity(deck, irregularity, error)
+    type(deck_t), intent(in) :: deck
+    type(track_irregularity_t), allocatable, intent(out) :: irregularity
+    type(error_t), allocatable, intent(out) :: error
+    real(wp), allocatable :: sigma(:), values(:, :)
+    real(wp) :: scale, fade
+    if (deck%count('track') == 0) return
+    if (.not. deck%given('track', 1, 'irregularity_file')) return
+    if (deck%count('wheelset') == 0) then
+      call make_error(error, RD_ERR_INPUT, deck%origin('track', 1, 'irregularity_file') // &
+        ': irregularities act through the wheel-rail contact; expected &wheelset groups in the deck')
+      return
+    end if
+    call deck%get('track', 1, 'irregularity_scale', scale, error)
+    if (allocated(error)) return
+    call deck%get('track', 1, 'irregularity_fade', fade, error)
+    if (allocated(error)) return
+    call read_irregularity_file(deck%path('track', 1, 'irregularity_file'), sigma, values, error)
+    if (allocated(error)) then
+      call error_context(error, deck%origin('track', 1, 'irregularity_file'))
+      return
+    end if
+    allocate (irregularity)
+    call build_track_irregularity(irregularity, sigma, values, error, scale=scale, fade=fade, &
+                                  origin=deck%origin('track', 1, 'irregularity_file'))
+    if (allocated(error)) deallocate (irregularity)
+  end subroutine build_scene_irregularity
 
   !> One spec per `&segment`, in deck order. A deck without segments is a straight,
   !> level track (the vehicle may still run past its end, which continues tangentially).
