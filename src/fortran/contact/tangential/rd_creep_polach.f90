@@ -8,7 +8,14 @@
 !> - eq. 3.72 forces are in Polach's sign (same sign as the creepage); forces ON THE WHEEL
 !>   are their negatives (Kalker/CONTACT convention, docs/conventions.md).
 !> With spin, s_C = sqrt(xi^2 + eta_C^2) with eta_C = eta + phi a when that increases
-!> |eta| (eq. 3.65), used both in eps and in the weights of C.
+!> |eta| (eq. 3.65) sets the magnitude (eps) and the split Fx = F xi/s_C, Fy = F eta/s_C;
+!> the weights of C stay those of the translational creepage s = sqrt(xi^2 + eta^2)
+!> (eq. 3.70, Polach 1999's code): only then is Fx = -G a b C11 xi in the linear range
+!> whatever the spin (weighting with eta_C/s_C, as done here before, mixed C22 into Fx).
+!> Known limitation of the published model (docs/theory_contact_mechanics.md): on an
+!> elongated, spinning flange patch the split by s_C (phi a dominating eta) rotates the
+!> force towards y_c; against Kalker's exact theory the resultant stays within a few %,
+!> but Fx is about 30 % low and Fy 15-40 % high (tests/.../test_creep_spin_exact).
 !> Polach gives no spin moment: Mz here is the linear Mz (C23, C33) scaled by the ratio of
 !> the Polach resultant to the linear resultant (saturation of the tangential force), and
 !> the unscaled linear Mz when there is no translational force. Say so when comparing.
@@ -62,7 +69,7 @@ contains
     type(creepage_t), intent(in) :: creep
     type(creep_force_t), intent(out) :: force
     type(creep_force_t) :: linear
-    real(wp) :: c11, c22, c23, c33, a, b, g, n, mu, eta_c, s_c, c_jj, eps, f, k_spin, eps_s, delta, k_m, &
+    real(wp) :: c11, c22, c23, c33, a, b, g, n, mu, eta_c, s_c, s_t, c_jj, eps, f, k_spin, eps_s, delta, k_m, &
                 f_ys, f_lin, f_pol
     if (.not. patch_is_loaded(patch)) return
     a = patch%a
@@ -80,8 +87,12 @@ contains
                            + self%friction_ratio)
     if (mu * n <= 0.0_wp) return
 
-    ! gradient of the tangential stress, eps = (2/3) C pi a^2 b s / (mu N), C from eq. 3.70 corrected
-    c_jj = hypot(c11 * creep%xi / s_c, c22 * eta_c / s_c)
+    ! gradient of the tangential stress, eps = (2/3) C pi a^2 b s_C / (mu N), C from eq. 3.70
+    ! corrected, weighted by the translational creepage s (pure spin: s = 0 and xi = eta = 0,
+    ! so F is not used: C = 0 as in Polach's code)
+    s_t = hypot(creep%xi, creep%eta)
+    c_jj = 0.0_wp
+    if (s_t > 0.0_wp) c_jj = hypot(c11 * creep%xi / s_t, c22 * creep%eta / s_t)
     eps = 0.25_wp * g * pi * a * b * c_jj * s_c / (mu * n)
     f = 2.0_wp * mu * n / pi * (self%k_a * eps / (1.0_wp + (self%k_a * eps)**2) + atan(self%k_s * eps))
 
