@@ -188,3 +188,28 @@ def test_bad_irregularity_file_fails_well(raildyn_exe, tmp_path, lines, line_no,
     for bad in ("Fortran runtime error", "Backtrace", "NaN"):
         assert bad not in res.stderr + res.stdout
     assert not (tmp_path / "scene.h5").exists()
+
+
+def test_example_deck_and_scale(raildyn_exe, tmp_path):
+    """inputs/tgv_wheelset_irregular.nml runs; irregularity_scale = 0 turns the irregularities
+    off (lateral motion at the numerical noise level), scale 1 excites the wheelset."""
+    h5py = pytest.importorskip("h5py")
+    example = REPO / "inputs" / "tgv_wheelset_irregular.nml"
+    text = example.read_text()
+    record = REPO / "inputs" / "irregularities" / "erri_low_400m_seed1.txt"
+    assert "irregularity_scale = 1.0" in text
+    lateral = {}
+    for scale in ("1.0", "0.0"):
+        deck = tmp_path / f"scale{scale}.nml"
+        deck.write_text(text.replace("irregularity_scale = 1.0", f"irregularity_scale = {scale}")
+                        .replace("'irregularities/erri_low_400m_seed1.txt'", f"'{record}'"))
+        res = run(raildyn_exe, "run", deck, cwd=tmp_path)
+        assert res.returncode == 0, res.stderr
+        with h5py.File(deck.with_suffix(".h5"), "r") as f:
+            t = f["time"][:]
+            y = f["bodies/ws1/position_track"][:, 1]
+            q_left = f["wheelsets/w1/left/wheel"][:, 3]
+        lateral[scale] = np.abs(y).max()
+        print(f"scale {scale}: max |y| {lateral[scale] * 1e3:.4f} mm, left Q {q_left[t > 0.5].min() / 1e3:.1f}"
+              f"..{q_left[t > 0.5].max() / 1e3:.1f} kN")
+    assert lateral["0.0"] < 1e-6 and lateral["1.0"] > 1e-4
