@@ -8,8 +8,8 @@
 !> from which each rail's offset follows (EN 13848-1 definitions, linearised):
 !>   left  rail  dy_L = alignment + gauge/2,  dz_L = level + cross_level/2
 !>   right rail  dy_R = alignment - gauge/2,  dz_R = level - cross_level/2.
-!> Cross-level is taken as the height difference of the rails over the cant base; with
-!> offsets of millimetres the small-angle form above is exact to 1e-6 relative.
+!> Cross-level is the height difference of the rails. The rails are translated, not rotated:
+!> the rail-head rotation cross_level / cant_base (1.3e-3 rad for 2 mm) is neglected.
 !>
 !> Evaluation: linear interpolation between the points (a measured record is a sampled
 !> signal; linear interpolation adds no overshoot between samples and keeps the offsets
