@@ -263,6 +263,8 @@ contains
           call self%outputs%add(p // 'summary', N_WHEELSET_CHANNELS, unit_tokens(wheelset_channel_units), &
             'derailment quotient (max Y/Q of the wheels) and sum of the guiding forces Y', &
             join(wheelset_channel_names), id)
+          call self%outputs%add(p // 'rail_offsets', 4, 'm', 'rails displaced by the track irregularities ' // &
+            'at the wheelset, track frame (zeros on the design track)', 'dy_left dz_left dy_right dz_right', id)
           block
             integer :: side, j
             character(len=5), parameter :: sides(2) = ['left ', 'right']
@@ -503,6 +505,7 @@ contains
           do w = 1, size(self%wheelset_names)
             associate (res => self%contact%results(w))
               call wheelset_channel_values(res, self%outputs%channels(j)%values); j = j + 1
+              self%outputs%channels(j)%values = self%contact%rail_offsets(:, w); j = j + 1
               do side = 1, 2
                 call wheel_channel_values(res%wheel(side), self%outputs%channels(j)%values); j = j + 1
                 do k = 1, MAX_PATCHES

@@ -69,6 +69,8 @@ module rd_wheelset_contact
     type(wheelset_result_t), allocatable :: results(:)   !< last evaluation, per wheelset
     !> Track irregularities seen by every wheelset (none when not allocated).
     type(track_irregularity_t), allocatable :: irregularity
+    !> Rail offsets of the last evaluation, per wheelset: dy_L, dz_L, dy_R, dz_R [m], track frame.
+    real(wp), allocatable :: rail_offsets(:, :)
   contains
     procedure :: init => wheelset_contact_init
     procedure :: set_irregularity => wheelset_contact_set_irregularity
@@ -89,7 +91,9 @@ contains
     character(len=16) :: num
     if (allocated(self%models)) deallocate (self%models)
     if (allocated(self%results)) deallocate (self%results)
-    allocate (self%models(size(specs)), self%results(size(specs)))
+    if (allocated(self%rail_offsets)) deallocate (self%rail_offsets)
+    allocate (self%models(size(specs)), self%results(size(specs)), self%rail_offsets(4, size(specs)))
+    self%rail_offsets = 0
     do i = 1, size(specs)
       call build_one(specs(i), self%models(i), error)
       if (allocated(error)) then
@@ -212,6 +216,7 @@ contains
       pose(5:8) = 0
       if (allocated(self%irregularity)) &
         pose(5:8) = reshape(self%irregularity%rail_offsets(kin%track%sigma + kin%q(1)), [4])
+      self%rail_offsets(:, i) = pose(5:8)
       if (m%cache_valid .and. all(pose == m%cache_pose)) then
         geo_res = m%cache_geo
       else
