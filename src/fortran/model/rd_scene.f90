@@ -28,12 +28,12 @@ module rd_scene
     N_WHEELSET_CHANNELS, patch_channel_names, patch_channel_units, wheel_channel_names, &
     wheel_channel_units, wheelset_channel_names, wheelset_channel_units, patch_channel_values, &
     wheel_channel_values, wheelset_channel_values
-  use rd_body_spec, only: body_spec_t
+  use rd_body_spec, only: body_spec_t, DOF_Y, DOF_YAW, DOF_PITCH
   use rd_multibody, only: multibody_t, BODY_OUT_RELATIVE, BODY_OUT_FIXED, ELEMENT_OUT
   use rd_force_element, only: force_element_t
   use rd_force_provider, only: force_provider_t
   use rd_external_loads, only: external_loads_t
-  use rd_static_preload, only: solve_static_preloads, solve_static_positions
+  use rd_static_preload, only: solve_static_preloads, solve_static_positions, level_straight_track_t
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t, &
                            jacobian_sparsity_t
   use rd_scene_jacobian, only: scene_jacobian_sparsity
@@ -596,33 +596,50 @@ contains
   subroutine start_mechanics(self, error)
     class(scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: error
+    logical :: supported(self%nbodies), held(6, self%nbodies)
+    integer :: w
     allocate (self%y(self%mbs%state_size()))
     call self%mbs%initial_state(self%y, error)
     if (allocated(error)) return
-    call nominal_lengths_from_initial_configuration(self%mbs, self%y)
+    ! With a static solve to follow, the vehicle is built on level straight track (free
+    ! lengths and preloads), so that a start inside a curve does not build the curve's
+    ! offsets between the body frames into the springs; the solve then deflects them.
+    call nominal_lengths_from_initial_configuration(self%mbs, self%y, &
+                                                    on_level_track=self%equilibrium /= 'none')
+    ! the elements' internal states again, from the final free lengths: a series damper's
+    ! initial elongation was taken with the deck's free length (0), i.e. x_d = |p2 - p1|,
+    ! which would start it with a tension k |p2 - p1| instead of relaxed
+    call self%mbs%initial_state(self%y, error)
+    if (allocated(error)) return
+    ! Bodies in wheel-rail contact: at V = 0 no creep force holds them laterally nor on
+    ! their spin, so the static solve holds their lateral position and spin
+    ! (rd_static_preload, module header)
+    supported = .false.
+    held = .false.
+    if (associated(self%contact)) then
+      do w = 1, size(self%contact%models)
+        supported(self%contact%models(w)%body) = .true.
+        held([DOF_Y, DOF_PITCH], self%contact%models(w)%body) = .true.
+      end do
+    end if
     select case (self%equilibrium)
     case ('preload')
       if (associated(self%contact)) then
-        ! Thesis 5.2.1 d: suspension preloads carry the bodies above the wheelsets; the
+        ! Thesis 5.2.1 d: suspension preloads carry the bodies above the wheelsets (found on
+        ! level track: they belong to the vehicle, not to the cant where it starts); the
         ! wheelsets are carried by the rails, so their equations are left to a static
-        ! position solve (contact penetration, suspension settling) that follows.
-        block
-          logical :: supported(self%nbodies)
-          integer :: w
-          supported = .false.
-          do w = 1, size(self%contact%models)
-            supported(self%contact%models(w)%body) = .true.
-          end do
-          call solve_static_preloads(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, &
-                                     supported=supported)
-        end block
+        ! position solve (contact penetration, suspension settling, lean in the cant) that
+        ! follows.
+        call solve_static_preloads(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, &
+                                   supported=supported, level_track=.true.)
         if (.not. allocated(error)) &
-          call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error)
+          call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, &
+                                      held=held)
       else
         call solve_static_preloads(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error)
       end if
     case ('solve')
-      call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error)
+      call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, held=held)
     end select
     if (allocated(error)) then
       call error_context(error, self%deck%origin('simulation', 1, 'equilibrium'))
@@ -652,15 +669,23 @@ contains
 
   !> Point-to-point elements are unstressed (apart from their preload) in the initial
   !> configuration: their free length is the separation of the attachment points there.
-  subroutine nominal_lengths_from_initial_configuration(mbs, y)
+  !> `on_level_track`: the bodies at their initial coordinates relative to frames on
+  !> straight level track (rd_static_preload), i.e. the vehicle as built.
+  subroutine nominal_lengths_from_initial_configuration(mbs, y, on_level_track)
     type(multibody_t), intent(inout) :: mbs
     real(wp), intent(in) :: y(:)
+    logical, intent(in) :: on_level_track
     real(wp), allocatable :: ydot(:)
     type(error_t), allocatable :: error
     logical :: recoverable
     integer :: e
+    type(level_straight_track_t), target :: level
+    class(track_geometry_t), pointer :: actual
     allocate (ydot(size(y)))
+    actual => mbs%track
+    if (on_level_track) mbs%track => level
     call mbs%rhs(0.0_wp, y, ydot, error, recoverable)
+    mbs%track => actual
     do e = 1, mbs%element_count()
       select type (el => mbs%elements(e)%e)
       type is (linear_spring_damper_t)
