@@ -257,7 +257,10 @@ contains
       parray('speed_values', 'm/s', 'speeds of the piecewise-linear speed law', 0, &
              cond='same length as speed_times; each >= 0'), &
       preal('start_sigma', 'm', 'track position of the vehicle reference at t = 0', default=zero), &
-      pstr('equilibrium', 'initial equilibrium: suspension preloads, static solve, or none', &
+      pstr('equilibrium', 'initial static equilibrium (docs/theory.md section 7): preload = ' // &
+           'suspension preloads on level track, then (with wheelsets) a static solve; solve = static solve ' // &
+           'only; none = the deck''s configuration. The solve holds the wheelsets'' lateral ' // &
+           'position and spin (no creep forces at rest), so a scene may start in a canted curve', &
            default='preload', allowed='preload|solve|none'), &
       preal('max_wheel_lift', 'm', 'wheel lift-off beyond this stops the run', default=0.005_wp, &
             min=zero, min_open=.true.), &
