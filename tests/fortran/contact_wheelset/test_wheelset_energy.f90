@@ -1,6 +1,6 @@
-!> Energy consistency of the wheel-rail contact force (docs/theory_contact_mechanics.md,
-!> "Flange chatter"): an S1002/60E1 wheelset (FASTSIM) on straight track at 4.4 m/s, as the
-!> Manchester wheelsets, checked with principles the pipeline does not use.
+!> Energy consistency of the wheel-rail contact force (docs/theory_flange_chatter.md): an
+!> S1002/60E1 wheelset (FASTSIM) on straight track at 4.4 m/s, as the Manchester wheelsets,
+!> checked with principles the pipeline does not use.
 !>
 !> 1. Motion along the contact normal is no slip (thesis 3.6.1: creepages are the tangential
 !>    components of the wheel material point's velocity relative to the rail). At a flange
@@ -19,11 +19,14 @@
 !> 3. The normal force field (friction 0, no damping) must be conservative where Hertz holds:
 !>    the work of the contact force around a closed loop of poses (ellipses 0.1 mm x 0.05 mm x
 !>    0.1 mrad in the (y, z), (z, roll), (y, roll) planes), relative to the summed |dW| of the
-!>    loop, below 5e-3 on the tread (y = 3.5 mm) and on the flange (y = 7 mm). At the two
-!>    jumps of the contact between tread, flange root and flange (y = 5.0 and 6.25 mm) the
-!>    loop work is 20-40 % of the summed |dW| (point Hertz with pose-dependent curvatures in
-!>    near-conformal contact: N = K(q) delta^1.5 is not a gradient field); printed as a known
-!>    deviation, the energy source of the flange chatter of the Manchester scene.
+!>    loop, below 5e-3 on the tread (y = 3.5 mm) and on the flange (y = 7 mm), and below 5e-2
+!>    at the jump of the contact from the tread to the flange root (y = 5.0 mm; 0.35 when the
+!>    Hertz curvatures were taken at the contact point alone: N = K(q) delta^1.5 with a Hertz
+!>    constant that doubled over 0.05 mm of shift in near-conformal contact; rd_strip_contact
+!>    now averages them over the virtual-penetration region, 0.018). At the jump from the
+!>    flange root to the flange (y = 6.25 mm) the loop work is still 9 % of the summed |dW|
+!>    (the force acts along the normal at the patch centroid, the penetration is the peak's);
+!>    printed as a known deviation (docs/theory_flange_chatter.md).
 program test_wheelset_energy
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t
@@ -69,6 +72,9 @@ program test_wheelset_energy
     if (ic <= 2) then
       call check(ratio < 5.0e-3_wp, 'normal force conservative on ' // merge('tread ', 'flange', ic == 1) // &
                  ': |loop work| / sum |dW| < 5e-3')
+    else if (ic == 3) then
+      call check(ratio < 5.0e-2_wp, 'normal force nearly conservative at the tread / flange root jump: ' // &
+                 '|loop work| / sum |dW| < 5e-2')
     else
       write (*, '(a,f5.2,a,f6.3,a)') 'KNOWN DEVIATION: at the contact jump y = ', y_cases(ic) * 1e3, &
         ' mm the normal force field is not conservative (|loop work| / sum |dW| = ', ratio, ')'

@@ -302,7 +302,7 @@ contains
       type(contact_patch_t), intent(out) :: p
       integer, intent(in) :: a, b, kc, r1, r2
       real(wp), intent(in) :: pen
-      real(wp) :: x, w, wl, slope, rr, nrm, te, tx, thr, wsum, qsum, tm1, tm2
+      real(wp) :: x, w, wl, slope, rr, nrm, te, tx, thr, wsum, qsum, tm1, tm2, krsum, kwsum
       integer :: kk, jw, kc2
       ! Contact point: centroid of the strips inside the virtual-penetration region of
       ! Kik & Piotrowski (VSD 46, 2008), delta_i > (1 - eps) delta_max with their eps = 0.55,
@@ -312,11 +312,13 @@ contains
       ! Over the bump's stretch a..b only (split_run): Kik & Piotrowski's separate regions.
       p%penetration = pen
       thr = (1 - virtual_eps) * refined_peak(delta, kc, ilo, ihi)
-      wsum = 0; qsum = 0
+      wsum = 0; qsum = 0; krsum = 0; kwsum = 0
       do kk = a, b
         if (delta(kk) > thr) then
           wsum = wsum + (delta(kk) - thr)
           qsum = qsum + (delta(kk) - thr) * (kk - kc)
+          krsum = krsum + (delta(kk) - thr) * rail%kappa(kk)
+          kwsum = kwsum + (delta(kk) - thr) * wheel_kappa_at(kk)
         end if
       end do
       x = 0
@@ -346,6 +348,15 @@ contains
       p%normal = p%normal / nrm
       p%contact_angle = atan2(p%normal(2), p%normal(3))
       p%curv_rail_lat = lerp(rail%kappa(kc2), rail%kappa(kk), wl)
+      ! Lateral curvatures for Hertz: the mean over the virtual-penetration region with the
+      ! centroid's weights (exact for a Hertzian gap, whose curvatures are constant over the
+      ! patch). The curvatures at the point alone vary over tenths of a millimetre of wheelset
+      ! shift where the flange root of S1002 meets the R80 / R13 arcs of the rail nearly
+      ! conformally (relative curvature 0.04-1 1/m, Hertz constant x2 over 0.05 mm), so that
+      ! N = K(q) delta^1.5 is no gradient field: a closed loop of poses of 0.1 x 0.05 mm got
+      ! 35 % of its gross work back, the energy source of the flange chatter
+      ! (docs/theory_flange_chatter.md; test_wheelset_energy).
+      if (wsum > 0) p%curv_rail_lat = krsum / wsum
       p%curv_rail_roll = 0
       jw = locate(wheel%y, p%point_wheel(2))
       x = (p%point_wheel(2) - wheel%y(jw)) / (wheel%y(jw + 1) - wheel%y(jw))
@@ -355,6 +366,7 @@ contains
       slope = wheel%slope(jw) + x * (wheel%slope(jw + 1) - wheel%slope(jw))
       p%rolling_radius = rr
       p%curv_wheel_lat = wheel%kappa(jw) + x * (wheel%kappa(jw + 1) - wheel%kappa(jw))
+      if (wsum > 0) p%curv_wheel_lat = kwsum / wsum    ! (see curv_rail_lat)
       ! normal curvature of a surface of revolution along its parallel: cos(gamma_s)/r
       ! (the inverse of the thesis' indentation radius R_s = r_s / cos(gamma_s), eq. 4.75)
       p%curv_wheel_roll = 1 / (rr * sqrt(1 + slope**2))
@@ -384,6 +396,17 @@ contains
       call strip_ends(kc, te, tx)
       p%strip_length = tx - te
     end subroutine fill_patch
+
+    !> Wheel profile curvature at the deepest point of rail line i (on its cone jseg(i)).
+    pure real(wp) function wheel_kappa_at(i) result(k)
+      integer, intent(in) :: i
+      real(wp) :: x
+      integer :: j
+      j = jseg(i)
+      x = (pw(2, i) - wheel%y(j)) / (wheel%y(j + 1) - wheel%y(j))
+      x = min(max(x, 0.0_wp), 1.0_wp)
+      k = wheel%kappa(j) + x * (wheel%kappa(j + 1) - wheel%kappa(j))
+    end function wheel_kappa_at
 
     !> Entry and exit of rail line i through the wheel (thesis 4.68-4.71: when alpha falls
     !> outside [0, 1] the intersection continues on segment j-1 or j+1).
