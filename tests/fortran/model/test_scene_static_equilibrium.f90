@@ -25,6 +25,14 @@
 !>         back. (The wheel loads are not compared over the release: the creep forces of
 !>         rolling, absent in the static state, switch on at once and their vertical
 !>         components move Q by ~2%.)
+!>  (c) Manchester vehicle 1 (S1002/60E1 profiles, lateral bump stops) started inside the
+!>      R = 150 m curve with 100 mm cant (sigma = 120 m): the car must sit 0.30 m inward of
+!>      the centreline (chord offset of its bogies) and lean, from a start with the bump
+!>      stops 0.3 m deep and the wheels 0.2 mm above the rails. Checked: the solved
+!>      accelerations vanish, and the global vertical balance holds: the suspension forces
+!>      cancel in pairs, so the rails' vertical forces (fixed Z) and the held supports'
+!>      vertical components (m y'' along each wheelset's Y_T) carry the total weight,
+!>      within the residual accelerations times the total mass (4e-3 N of 436 kN).
 !>  (b) the TGV vehicle with a series yaw damper (an element with an internal state): the
 !>      solve used to fail because the damper started with the tension k |p2 - p1| (its
 !>      state was set before the free length) and, fixed during the solve, acted as a spring.
@@ -51,6 +59,7 @@ program test_scene_static_equilibrium
   integer :: failures = 0
 
   call test_curve_start()
+  call test_tight_curve_start()
   call test_series_damper()
   if (failures > 0) then
     write (*, '(i0, a)') failures, ' check(s) failed'
@@ -150,6 +159,70 @@ contains
     real(wp), intent(in) :: sigma
     cant = asin(0.050_wp * min(max((sigma - 1000.0_wp) / 200.0_wp, 0.0_wp), 1.0_wp) / 1.5_wp)
   end function cant
+
+  ! ---------------------------------------------------------------- (c)
+  subroutine test_tight_curve_start()
+    type(scene_t) :: scene
+    type(error_t), allocatable :: error
+    type(multibody_t), pointer :: mbs
+    type(wheelset_contact_t), pointer :: contact
+    real(wp), allocatable :: y(:), ydot(:)
+    real(wp) :: worst, total_mass, contact_z, held_z, balance, bound
+    integer :: ib, j, k, n, iw
+    logical :: rec, is_wheelset
+
+    call scene%load_string("&include file = 'manchester_v1_tc1.nml' /" // nl // &
+                           "&simulation start_sigma = 120.0, t_end = 1.0 /" // nl, 'inputs', error)
+    if (.not. allocated(error)) call scene%build(error)
+    if (.not. allocated(error)) call scene%initialize(.false., error)
+    call stop_on(error, 'Manchester vehicle 1 started in the R = 150 m curve (sigma = 120 m)')
+    mbs => scene%system()
+    contact => contact_of(mbs)
+    n = mbs%nfree
+    allocate (y(scene%state_size()), ydot(scene%state_size()))
+    call scene%get_state(y, error)
+    mbs%speed = constant_speed(0.0_wp)
+    call mbs%rhs(0.0_wp, y, ydot, error, rec)
+    call stop_on(error, 'RHS at the static state')
+    worst = 0
+    total_mass = 0
+    contact_z = 0
+    held_z = 0
+    do ib = 1, mbs%body_count()
+      total_mass = total_mass + mbs%bodies(ib)%mass
+      is_wheelset = any(contact%models(:)%body == ib)
+      do j = 1, 6
+        k = mbs%free_slot(ib, j)
+        if (k == 0) cycle
+        if (is_wheelset .and. (j == DOF_Y .or. j == DOF_PITCH)) cycle
+        worst = max(worst, abs(ydot(n + k)))
+      end do
+      if (is_wheelset) then
+        ! the held lateral support: the unbalanced force m y'' along the wheelset's Y_T
+        ! (frames at rest: y'' is the acceleration along Y_T), fixed-frame Z component
+        held_z = held_z + mbs%bodies(ib)%mass * ydot(n + mbs%free_slot(ib, DOF_Y)) * mbs%kin(ib)%track%a(3, 2)
+      end if
+    end do
+    do iw = 1, size(contact%results)
+      contact_z = contact_z + contact%results(iw)%force(3)
+    end do
+    write (*, '(a, es10.3, a)') 'tight curve start: largest acceleration of a solved coordinate ', worst, &
+      ' m/s^2 or rad/s^2'
+    call check(worst <= 1.0e-7_wp, 'tight curve start: the solved accelerations do not vanish')
+    ! Global vertical balance: the suspension forces cancel in pairs, so the rails' forces
+    ! plus the held supports carry the total weight; the track is level along its length
+    ! (the frozen car x carries no vertical force). Bound: the solved residual accelerations
+    ! (<= 1e-7 m/s^2) times the total mass.
+    balance = contact_z - held_z - total_mass * standard_gravity
+    bound = 1.0e-7_wp * total_mass
+    write (*, '(a, f12.3, a, es10.3, a, es10.3, a)') 'tight curve start: rails carry ', contact_z, &
+      ' N vertically; weight - held supports off by ', balance, ' N (bound ', bound, ' N)'
+    call check(abs(balance) <= bound, 'tight curve start: the rails do not carry the weight')
+    ! and the run starts (flange contact comes with the creep forces)
+    call scene%advance(0.05_wp, error)
+    call stop_on(error, 'tight curve start: run to 0.05 s')
+    call scene%destroy()
+  end subroutine test_tight_curve_start
 
   ! ---------------------------------------------------------------- (b)
   subroutine test_series_damper()
