@@ -10,12 +10,13 @@
 !> With spin, s_C = sqrt(xi^2 + eta_C^2) with eta_C = eta + phi a when that increases
 !> |eta| (eq. 3.65) sets the magnitude (eps) and the split Fx = F xi/s_C, Fy = F eta/s_C;
 !> the weights of C stay those of the translational creepage s = sqrt(xi^2 + eta^2)
-!> (eq. 3.70, Polach 1999's code): only then is Fx = -G a b C11 xi in the linear range
-!> whatever the spin (weighting with eta_C/s_C, as done here before, mixed C22 into Fx).
+!> (eq. 3.70 with the translational creepage of eq. 3.63): only then is Fx = -G a b C11 xi
+!> in the linear range whatever the spin (weighting with eta_C/s_C, as done here before,
+!> mixed C22 into Fx).
 !> Known limitation of the published model (docs/theory_contact_mechanics.md): on an
 !> elongated, spinning flange patch the split by s_C (phi a dominating eta) rotates the
 !> force towards y_c; against Kalker's exact theory the resultant stays within a few %,
-!> but Fx is about 30 % low and Fy 15-40 % high (tests/.../test_creep_spin_exact).
+!> but Fx is about 30 % low and Fy 15-40 % high (test_creep_spin_exact).
 !> Polach gives no spin moment: Mz here is the linear Mz (C23, C33) scaled by the ratio of
 !> the Polach resultant to the linear resultant (saturation of the tangential force), and
 !> the unscaled linear Mz when there is no translational force. Say so when comparing.
