@@ -601,11 +601,13 @@ contains
     allocate (self%y(self%mbs%state_size()))
     call self%mbs%initial_state(self%y, error)
     if (allocated(error)) return
-    ! With a static solve to follow, the vehicle is built on level straight track (free
-    ! lengths and preloads), so that a start inside a curve does not build the curve's
+    ! With a static position solve to follow, the vehicle is built on level straight track
+    ! (free lengths and preloads), so that a start inside a curve does not build the curve's
     ! offsets between the body frames into the springs; the solve then deflects them.
-    call nominal_lengths_from_initial_configuration(self%mbs, self%y, &
-                                                    on_level_track=self%equilibrium /= 'none')
+    ! Without one ('none', or preloads alone for a scene without wheel-rail contact) the
+    ! initial configuration stays the unstressed one.
+    call nominal_lengths_from_initial_configuration(self%mbs, self%y, on_level_track= &
+      self%equilibrium == 'solve' .or. (self%equilibrium == 'preload' .and. associated(self%contact)))
     ! the elements' internal states again, from the final free lengths: a series damper's
     ! initial elongation was taken with the deck's free length (0), i.e. x_d = |p2 - p1|,
     ! which would start it with a tension k |p2 - p1| instead of relaxed
