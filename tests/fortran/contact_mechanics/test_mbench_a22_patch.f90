@@ -4,9 +4,12 @@
 !> CPHI [1/mm]), normal force FN, contact-plane forces FX, FS, and the contact area map
 !> (0.2 mm x 0.2 mm elements). The equivalent ellipse keeps the patch length in the rolling
 !> direction (a = longest row / 2) and its area (b = area / (pi a)); N = FN.
-!> Covered: every tread case of both wheels (|contact angle| < 0.3 rad); the flange cases
-!> of the right wheel are left to the full check with our own geometry (later step).
+!> Covered: every tread case of both wheels (|contact angle| < 0.3 rad), and the flange
+!> cases of the right wheel (large spin, a/b = 4-19, near full slip) for FASTSIM.
 !> Band: the README's 10-25 % for Hertz + FASTSIM on this benchmark -> resultant within 25 %.
+!> On the flange patches Polach's resultant is printed, not judged: its published spin
+!> treatment (eta_C = eta + phi a splits the force by s_C) leaves it 14-23 % below
+!> CONTACT there (docs/theory_contact_mechanics.md, Polach).
 program test_mbench_a22_patch
   use rd_kinds, only: wp
   use rd_error, only: error_t
@@ -17,11 +20,11 @@ program test_mbench_a22_patch
   class(creep_law_t), allocatable :: fastsim, polach
   type(creep_law_options_t) :: options
   type(error_t), allocatable :: error
-  integer :: failures, n_checked, length
-  real(wp) :: worst(2)
+  integer :: failures, n_checked, n_flange, length
+  real(wp) :: worst(2), worst_flange
   character(len=512) :: buffer
 
-  failures = 0; n_checked = 0; worst = 0.0_wp
+  failures = 0; n_checked = 0; worst = 0.0_wp; n_flange = 0; worst_flange = 0.0_wp
   call get_environment_variable('RAILDYN_SHARED_DIR', buffer, length)
   if (length == 0) buffer = '../shared'
   dir = trim(buffer) // '/reference/mbench_a22/'
@@ -35,8 +38,9 @@ program test_mbench_a22_patch
   call check_file(dir // 'mbench_a22_right.ref_out', 'right')
 
   print '(a,i0,a,2f8.4)', 'patches checked: ', n_checked, '; worst |F|/|F_ref| - 1 (fastsim, polach): ', worst
-  if (n_checked < 30) then
-    print '(a)', 'FAIL: expected at least 30 tread patches in the two reference files'
+  print '(a,i0,a,f8.4)', 'flange patches: ', n_flange, '; worst FASTSIM |F|/|F_ref| - 1: ', worst_flange
+  if (n_checked < 30 .or. n_flange < 8) then
+    print '(a)', 'FAIL: expected at least 30 tread and 8 flange patches in the two reference files'
     failures = failures + 1
   end if
   if (failures > 0) then
@@ -114,7 +118,6 @@ contains
           failures = failures + 1
           cycle
         end if
-        if (abs(delta_cp) >= 0.3_wp) cycle       ! flange contact: not covered here
         patch%a = 0.5_wp * longest * element
         patch%b = ncon * element**2 / (3.141592653589793_wp * patch%a)
         patch%normal_force = fn
@@ -125,6 +128,21 @@ contains
         call fastsim%compute(patch, creep, f_fast)
         call polach%compute(patch, creep, f_pol)
         ref = hypot(fx, fs)
+        if (abs(delta_cp) >= 0.3_wp) then        ! flange contact: FASTSIM judged, Polach printed
+          rel_fast = hypot(f_fast%fx, f_fast%fy) / ref - 1.0_wp
+          rel_pol = hypot(f_pol%fx, f_pol%fy) / ref - 1.0_wp
+          print '(a6,i3,a,2f7.2,a,2f9.1,a,2f9.1,a,2f9.1,a,2f7.3)', side, case_id, ' flange a,b[mm]', patch%a * 1e3, &
+            patch%b * 1e3, '  ref Fx,Fs', fx, fs, '  fastsim', f_fast%fx, f_fast%fy, '  polach', f_pol%fx, f_pol%fy, &
+            '  |F|/|F_ref|-1', rel_fast, rel_pol
+          n_flange = n_flange + 1
+          worst_flange = max(worst_flange, abs(rel_fast))
+          if (abs(rel_fast) > 0.25_wp .or. sign(1.0_wp, f_fast%fy) /= sign(1.0_wp, fs)) then
+            print '(a,a,i0,a,f8.3)', side, ' flange case ', case_id, ': FASTSIM resultant outside 25 % or Fy sign: ', &
+              rel_fast
+            failures = failures + 1
+          end if
+          cycle
+        end if
         if (case_id == 1) then
           ! Centred wheelset, pure rolling (|F| ~ 0.085 mu N): CONTACT's Fx ~ 0 comes from the
           ! rolling-radius variation across this 13 mm wide non-elliptic patch, which no
