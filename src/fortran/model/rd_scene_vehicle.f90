@@ -343,6 +343,7 @@ contains
         call deck%get('wheelset', i, 'friction', w%friction, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'creep_law', text, error); if (allocated(error)) return
         w%creep_law = text
+        call deck%get('wheelset', i, 'spin_creep', w%spin_creep, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'creep_saturation', text, error); if (allocated(error)) return
         w%creep_options%saturation = text
         call deck%get('wheelset', i, 'fastsim_grid', grid, error); if (allocated(error)) return

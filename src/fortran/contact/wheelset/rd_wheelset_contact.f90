@@ -48,6 +48,7 @@ module rd_wheelset_contact
     type(hertz_params_t) :: hertz
     class(creep_law_t), allocatable :: law
     real(wp) :: friction = 0.3_wp
+    logical :: spin_creep = .true.      !< spin creepage passed to the creep law
     real(wp) :: damping = 0
     real(wp) :: v0 = 0.05_wp
     real(wp) :: liftoff_limit = 0.02_wp
@@ -125,6 +126,7 @@ contains
       if (allocated(error)) return
       m%body = spec%body
       m%friction = spec%friction
+      m%spin_creep = spec%spin_creep
       m%damping = spec%contact_damping
       m%v0 = spec%creep_v0
       m%liftoff_limit = spec%liftoff_limit
@@ -308,7 +310,11 @@ contains
           cp%poisson = m%hertz%poisson
           cp%friction = m%friction
           cp%rolling_speed = creep%v_ref
-          call m%law%compute(cp, creep, cf)
+          if (m%spin_creep) then
+            call m%law%compute(cp, creep, cf)
+          else
+            call m%law%compute(cp, creepage_t(xi=creep%xi, eta=creep%eta, phi=0.0_wp, v_ref=creep%v_ref), cf)
+          end if
         end if
         ! forces on the wheel (thesis 4.90 in contact components, 4.96 spin couple)
         f = nf * n + cf%fx * xc + cf%fy * yc

@@ -64,6 +64,9 @@ module rd_wheelset_contact_spec
     real(wp) :: friction = 0.3_wp                    !< mu [-]
     character(len=16) :: creep_law = 'fastsim'       !< 'linear' | 'fastsim' | 'polach'
     type(creep_law_options_t) :: creep_options
+    !> .false.: the creep law gets zero spin creepage (thesis 5.5-5.6 compare FASTSIM and Polach
+    !> "as the spin creepage is not taken into account"); the spin itself is still output
+    logical :: spin_creep = .true.
     real(wp) :: creep_v0 = default_creep_v0          !< creep velocity regularisation [m/s]
     !> run-time limits: a wheel whose smallest gap exceeds liftoff_limit is an error [m]
     real(wp) :: liftoff_limit = 0.02_wp

@@ -368,6 +368,8 @@ contains
             default=-0.070_wp), &
       pstr('creep_law', 'tangential contact law', default='fastsim', &
            allowed='linear|fastsim|polach'), &
+      plog('spin_creep', 'spin creepage enters the creep law (.false.: creep forces from xi and eta ' // &
+           'only, as the thesis 5.5-5.6 comparison; the spin is still computed and written)', .true.), &
       pstr('creep_saturation', 'saturation of the linear law', default='none', &
            allowed='none|shen_hedrick_elkins'), &
       preal('friction', '-', 'wheel-rail friction coefficient', default=0.3_wp, min=zero, &
