@@ -36,13 +36,6 @@ KNOWN_FAILURES = {
                             "required: met), but yaw ws2 is 92% off (1.9 vs 0.4-1.2 mrad; none may "
                             "exceed 30%): our wheelsets sit at the rigid flange-contact jump (6.2 mm, "
                             "as in the A-2.2 geometry), the packages' 1.3-1.8 mm further; open"),
-    "tgv_profile_polach": pytest.mark.xfail(
-        strict=True, reason="Polach vs FASTSIM: shifts and yaw agree, the wheels' lateral forces "
-                            "differ by 2.4 times the allowed difference (ws1 right 10.8 vs 5.9 kN): "
-                            "Polach's published spin treatment (eta_C = eta + phi a) turns the flange "
-                            "patch force (Fx -31%, Fy +39% against Kalker's exact theory, FASTSIM "
-                            "-5%/+14%), so the flange sits higher; the thesis compared them without "
-                            "spin (passes so: 0.52); rule kept, see docs/validation.md"),
 }
 
 
