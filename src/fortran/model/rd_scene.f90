@@ -21,7 +21,7 @@ module rd_scene
   use rd_scene_track, only: build_scene_track, build_scene_irregularity
   use rd_track_irregularity, only: track_irregularity_t
   use rd_scene_vehicle, only: build_bodies, build_element, build_external_loads, body_index, &
-                              build_wheelset_specs
+                              build_wheelset_specs, check_rail_bodies
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_wheelset_contact, only: wheelset_contact_t
   use rd_wheel_contact_result, only: MAX_PATCHES, N_PATCH_CHANNELS, N_WHEEL_CHANNELS, &
@@ -532,6 +532,8 @@ contains
     character(len=:), allocatable :: method
 
     call build_bodies(self%deck, bodies, self%frame_offsets, error)
+    if (allocated(error)) return
+    call check_rail_bodies(self%deck, bodies, self%frame_offsets, error)
     if (allocated(error)) return
     call self%deck%get('simulation', 1, 'gravity', gravity, error); if (allocated(error)) return
     allocate (self%mbs)

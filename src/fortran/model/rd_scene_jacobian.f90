@@ -7,8 +7,11 @@
 !> on b's own states and on the states of whatever shares a force with b:
 !>  - a force element couples body1, body2 (0 = ground: the track frame, no state) and its
 !>    own internal states (series dampers: their rates depend on both bodies);
-!>  - a wheelset contact acts on its wheelset only, from that wheelset's kinematics (the
-!>    rails are fixed, thesis 4.7);
+!>  - a wheelset contact acts on its wheelset from that wheelset's kinematics (rigid rails
+!>    fixed in the track frame, thesis 4.7); with rail bodies (flexible track) each wheel's
+!>    force also depends on its rail body's (y, z) and rates and acts on it, so the contact
+!>    couples the wheelset with each rail body (the two rails only through the wheelset:
+!>    the left wheel's geometry sees the left rail only, rd_contact_geometry);
 !>  - external loads act on one body, from its own frames; the run-time override loads of
 !>    the C API do not depend on the state at all; gravity and the track frames' motion
 !>    (speed law) depend on time only.
@@ -86,7 +89,13 @@ contains
       type is (external_loads_t)
         ! each load acts on its body from that body's track or body frame: no coupling
       type is (wheelset_contact_t)
-        ! each wheelset's contact acts on that wheelset from its own kinematics: no coupling
+        ! each wheelset's contact acts on that wheelset from its own kinematics, and with
+        ! flexible track between the wheelset and its rail bodies
+        do j = 1, p%wheelset_count()
+          do k = 1, 2
+            if (p%models(j)%rail_body(k) > 0) call link(p%models(j)%body, p%models(j)%rail_body(k))
+          end do
+        end do
       class default
         coupling%dense_reason = 'force provider ' // trim(int_text(i)) // &
                                 ' does not state which bodies it couples'

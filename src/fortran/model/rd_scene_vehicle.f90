@@ -18,6 +18,7 @@ module rd_scene_vehicle
   implicit none
   private
   public :: build_bodies, build_element, build_external_loads, body_index, build_wheelset_specs
+  public :: check_rail_bodies
 
   character(len=*), parameter :: dof_names(6) = [character(len=5) :: 'x', 'y', 'z', 'yaw', 'roll', 'pitch']
 
@@ -296,6 +297,78 @@ contains
       end if
     end do
   end subroutine build_external_loads
+  !> Flexible track: the `&wheelset` rail bodies (left_rail_body, right_rail_body) must be
+  !> bodies other than the wheelset, each other and any wheelset, in a track frame at the
+  !> wheelset's frame offset (the contact adds their (y, z) to the rail offsets of the
+  !> wheelset's frame), with x, yaw, roll and pitch frozen (the contact applies a force at
+  !> their CG only; docs/theory_track_flexibility.md).
+  subroutine check_rail_bodies(deck, bodies, frame_offsets, error)
+    type(deck_t), intent(in) :: deck
+    type(body_spec_t), intent(in) :: bodies(:)
+    real(wp), intent(in) :: frame_offsets(:)
+    type(error_t), allocatable, intent(out) :: error
+    character(len=*), parameter :: keys(2) = [character(len=15) :: 'left_rail_body', 'right_rail_body']
+    character(len=:), allocatable :: name, ws_name, origin_text
+    integer :: j, side, ws, rb, rails(2)
+    real(wp) :: d_rail, d_ws
+    do j = 1, deck%count('wheelset')
+      call deck%get('wheelset', j, 'body', ws_name, error); if (allocated(error)) return
+      ws = body_index(deck, ws_name)
+      if (ws < 1) cycle       ! build_bodies reported it
+      rails = 0
+      do side = 1, 2
+        call deck%get('wheelset', j, trim(keys(side)), name, error); if (allocated(error)) return
+        if (name == 'none') cycle
+        rb = body_index(deck, name)
+        origin_text = deck%origin('wheelset', j, trim(keys(side)))
+        if (rb < 1) then
+          call make_error(error, RD_ERR_INPUT, origin_text // ": no &body named '" // name // &
+                          "'; expected the name of a rail body or 'none'")
+          return
+        end if
+        if (rb == ws) then
+          call make_error(error, RD_ERR_INPUT, origin_text // ": the rail body '" // name // &
+                          "' is the wheelset itself; expected a separate body on pad elements")
+          return
+        end if
+        if (side == 2 .and. rb == rails(1)) then
+          call make_error(error, RD_ERR_INPUT, origin_text // ": '" // name // &
+                          "' is also the left rail body; expected one body per rail")
+          return
+        end if
+        if (bodies(rb)%is_wheelset) then
+          call make_error(error, RD_ERR_INPUT, origin_text // ": '" // name // &
+                          "' is a wheelset body; expected a rail body on pad elements")
+          return
+        end if
+        d_rail = frame_offsets(bodies(rb)%frame)
+        d_ws = frame_offsets(bodies(ws)%frame)
+        if (abs(d_rail - d_ws) > 1.0e-9_wp) then
+          call make_error(error, RD_ERR_INPUT, origin_text // ": the rail body '" // name // &
+                          "' is in a track frame at frame_offset " // real_str(d_rail) // &
+                          " m; expected the wheelset's (" // real_str(d_ws) // " m): give it frame = '" // &
+                          ws_name // "' or the same frame_offset")
+          return
+        end if
+        if (.not. all(bodies(rb)%frozen([1, 4, 5, 6]))) then
+          call make_error(error, RD_ERR_INPUT, origin_text // ": the rail body '" // name // &
+                          "' must have frozen = 'x', 'yaw', 'roll', 'pitch' (it moves laterally " // &
+                          "and vertically only)")
+          return
+        end if
+        rails(side) = rb
+      end do
+    end do
+  end subroutine check_rail_bodies
+
+  pure function real_str(x) result(s)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: s
+    character(len=32) :: b
+    write (b, '(g0.6)') x
+    s = trim(adjustl(b))
+  end function real_str
+
   !> One contact spec per `&wheelset` (track placement from `&track`, run-time limits
   !> from `&simulation`).
   subroutine build_wheelset_specs(deck, specs, error)
@@ -310,6 +383,10 @@ contains
       associate (w => specs(i))
         call deck%get('wheelset', i, 'body', text, error); if (allocated(error)) return
         w%body = body_index(deck, text)
+        call deck%get('wheelset', i, 'left_rail_body', text, error); if (allocated(error)) return
+        if (text /= 'none') w%rail_body(1) = body_index(deck, text)
+        call deck%get('wheelset', i, 'right_rail_body', text, error); if (allocated(error)) return
+        if (text /= 'none') w%rail_body(2) = body_index(deck, text)
         call deck%get('wheelset', i, 'contact', text, error); if (allocated(error)) return
         w%model = text
         if (w%model == 'profile') then

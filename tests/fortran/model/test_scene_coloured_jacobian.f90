@@ -6,6 +6,8 @@
 !>      static state (loaded wheel-rail contact), and on the same vehicle with a series yaw
 !>      damper (an element with an internal state; equilibrium 'none': the state is
 !>      perturbed anyway; the static solve with it is tested in test_scene_static_equilibrium),
+!>      and on the same vehicle on flexible track (rail bodies on pads under wheelsets 1
+!>      and 3: the contact couples each wheelset with its two rail bodies),
 !>      the coloured Jacobian equals
 !>      1. a dense forward-difference Jacobian written here with CVODE's increments, column
 !>         by column, to the round-off of the two RHS values (a missed coupling would add
@@ -43,7 +45,7 @@ program test_scene_coloured_jacobian
     "body2 = 'bogie1', point1 = 11.85, 1.3, -0.7, point2 = -0.5, 1.3, 0.2, " // &
     "damping = 2.0e5, 0.0, 0.0, series_stiffness = 8.0e6 /" // new_line('a')
   integer :: failures = 0
-  character(len=:), allocatable :: tgv_text, damper_text
+  character(len=:), allocatable :: tgv_text, damper_text, rails_text
   integer :: k
 
   tgv_text = file_text('inputs/tgv_vehicle_straight.nml')
@@ -53,6 +55,8 @@ program test_scene_coloured_jacobian
   call test_manchester_colouring()
   call test_jacobian_against_dense(tgv_text, 'TGV', 82)
   call test_jacobian_against_dense(damper_text, 'TGV + yaw damper', 83)
+  rails_text = tgv_text // rail_bodies('ws1', 'w1') // rail_bodies('ws3', 'w3')
+  call test_jacobian_against_dense(rails_text, 'TGV + rail bodies', 98)
   call test_runs_agree()
   if (failures > 0) then
     write (*, '(i0, a)') failures, ' check(s) failed'
@@ -61,6 +65,24 @@ program test_scene_coloured_jacobian
   write (*, '(a)') 'all scene coloured-Jacobian checks passed'
 
 contains
+
+  !> Flexible track under wheelset `ws` (&wheelset `w`): two rail bodies in its frame on
+  !> lateral and vertical pads (the contact couples the wheelset with both).
+  function rail_bodies(ws, w) result(text)
+    character(len=*), intent(in) :: ws, w
+    character(len=:), allocatable :: text
+    character, parameter :: nl = new_line('a')
+    text = nl
+    text = text // "&body name = '" // ws // "_rl', mass = 150.0, ixx = 10.0, iyy = 10.0, izz = 10.0, " // &
+      "frame = '" // ws // "', frozen = 'x', 'yaw', 'roll', 'pitch' /" // nl // &
+      "&body name = '" // ws // "_rr', mass = 150.0, ixx = 10.0, iyy = 10.0, izz = 10.0, " // &
+      "frame = '" // ws // "', frozen = 'x', 'yaw', 'roll', 'pitch' /" // nl // &
+      "&element name = '" // ws // "_pad_l', type = 'spring_damper', body1 = 'ground', body2 = '" // ws // &
+      "_rl', stiffness = 0.0, 5e7, 1e8, damping = 0.0, 2e4, 5e4 /" // nl // &
+      "&element name = '" // ws // "_pad_r', type = 'spring_damper', body1 = 'ground', body2 = '" // ws // &
+      "_rr', stiffness = 0.0, 5e7, 1e8, damping = 0.0, 2e4, 5e4 /" // nl // &
+      "&wheelset name = '" // w // "', left_rail_body = '" // ws // "_rl', right_rail_body = '" // ws // "_rr' /" // nl
+  end function rail_bodies
 
   ! ---------------------------------------------------------------- (c)
   subroutine test_manchester_colouring()

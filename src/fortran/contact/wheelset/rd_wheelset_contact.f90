@@ -13,6 +13,13 @@
 !>   wheelset's load. The multibody projects them on the generalized coordinates (H^T),
 !>   which is what thesis eqs. 4.87-4.102 intend (see the theory doc for their errors).
 !>
+!> Flexible track (docs/theory_track_flexibility.md): a side with a rail body sees its rail
+!> displaced by that body's (y, z) in its track frame (added to the irregularity offsets),
+!> the rail material moving with the body's displacement rate, and the body gets the
+!> reaction (minus the wheel's contact force) at its CG; no moment: the rail body's
+!> rotations are frozen, and the moment of the reaction about its CG is carried by those
+!> frozen coordinates (a co-moving rail mass, as SIMPACK's/GENSYS' "rail bodies").
+!>
 !> Parameters are fixed by `init`; `add_forces` allocates nothing and keeps the per-patch
 !> results of the last evaluation in `results` for the outputs.
 module rd_wheelset_contact
@@ -44,6 +51,7 @@ module rd_wheelset_contact
   !> Parameters of one wheelset's contact (fixed after init).
   type :: wheelset_model_t
     integer :: body = 0
+    integer :: rail_body(2) = 0            !< left/right rail body, 0 = rigid rail
     type(contact_geometry_t) :: geo
     type(hertz_params_t) :: hertz
     class(creep_law_t), allocatable :: law
@@ -111,6 +119,17 @@ contains
         end if
       end do
     end do
+    ! a rail body is a plain body on pads, never a wheelset itself
+    do i = 1, size(specs)
+      do j = 1, size(specs)
+        if (any(specs(i)%rail_body == specs(j)%body)) then
+          write (num, '(i0)') i
+          call make_error(error, RD_ERR_INPUT, 'wheelset contact ' // trim(num) // &
+                          ': a rail body is the body of a wheelset; expected a body on pad elements')
+          return
+        end if
+      end do
+    end do
   contains
     subroutine build_one(spec, m, error)
       type(wheelset_contact_spec_t), intent(in) :: spec
@@ -125,6 +144,7 @@ contains
       call build_creep_law(spec, m%law, error)
       if (allocated(error)) return
       m%body = spec%body
+      m%rail_body = spec%rail_body
       m%friction = spec%friction
       m%spin_creep = spec%spin_creep
       m%damping = spec%contact_damping
@@ -159,24 +179,36 @@ contains
     if (allocated(self%models)) wheelset_count = size(self%models)
   end function wheelset_count
 
-  !> force_provider_t: add every wheelset's contact force and moment to its body's load.
+  !> force_provider_t: add every wheelset's contact force and moment to its body's load,
+  !> and the reaction of each wheel to its rail body (if any).
   subroutine wheelset_contact_add_forces(self, t, kin, forces, error)
     class(wheelset_contact_t), intent(inout) :: self
     real(wp), intent(in) :: t
     type(body_kinematics_t), intent(in) :: kin(:)
     type(body_load_t), intent(inout) :: forces(:)
     type(error_t), allocatable, intent(out) :: error
-    integer :: i, ib
-    real(wp) :: f(3), m(3)
+    integer :: i, ib, side, rb
+    real(wp) :: f(3), m(3), fw(3, 2)
     if (.not. allocated(self%models)) return
     do i = 1, size(self%models)
       ib = self%models(i)%body
-      if (ib > size(kin)) then
+      if (ib > size(kin) .or. any(self%models(i)%rail_body > size(kin))) then
         call make_error(error, RD_ERR_INPUT, 'wheelset contact: body index beyond the multibody''s bodies')
         return
       end if
-      call self%evaluate(i, t, kin(ib), f, m, error)
-      if (allocated(error)) return
+      if (all(self%models(i)%rail_body == 0)) then
+        call self%evaluate(i, t, kin(ib), f, m, error)
+        if (allocated(error)) return
+      else
+        call self%evaluate(i, t, kin(ib), f, m, error, all_kin=kin, wheel_force=fw)
+        if (allocated(error)) return
+        ! actio = reactio: the rail gets minus the wheel's contact force, at its CG (no
+        ! moment: its rotations are frozen, the moment goes into those frozen coordinates)
+        do side = SIDE_LEFT, SIDE_RIGHT
+          rb = self%models(i)%rail_body(side)
+          if (rb > 0) forces(rb)%force = forces(rb)%force - fw(:, side)
+        end do
+      end if
       forces(ib)%force = forces(ib)%force + f
       forces(ib)%moment = forces(ib)%moment + m
     end do
@@ -186,18 +218,24 @@ contains
   !> (at the CG) and moment (about the CG) on the wheelset, fixed-frame components.
   !> Fills results(i). Errors: RD_ERR_PHYSICS on lift-off / derailment, RD_ERR_RUNTIME on a
   !> non-finite result, both naming time, wheelset and side.
-  subroutine wheelset_contact_evaluate(self, i, t, kin, force, moment, error)
+  !> A wheelset with rail bodies needs `all_kin` (every body's kinematics, indexed by body
+  !> number, as add_forces gets them); `wheel_force(:, side)` returns each wheel's contact
+  !> force (fixed-frame components), whose opposite acts on that side's rail.
+  subroutine wheelset_contact_evaluate(self, i, t, kin, force, moment, error, all_kin, wheel_force)
     class(wheelset_contact_t), intent(inout) :: self
     integer, intent(in) :: i
     real(wp), intent(in) :: t
     type(body_kinematics_t), intent(in) :: kin
     real(wp), intent(out) :: force(3), moment(3)
     type(error_t), allocatable, intent(out) :: error
+    type(body_kinematics_t), intent(in), optional :: all_kin(:)
+    real(wp), intent(out), optional :: wheel_force(3, 2)
     type(wheel_contact_t) :: geo_res(2)
-    real(wp) :: fw(3), mw(3), pose(8)
-    integer :: side
+    real(wp) :: fw(3), mw(3), pose(8), v_rail(3, 2)
+    integer :: side, rb
     force = 0
     moment = 0
+    if (present(wheel_force)) wheel_force = 0
     if (.not. kin%is_wheelset) then
       call make_error(error, RD_ERR_INPUT, 'wheelset contact ' // trim(int_text(i)) // &
                       ': the body is not a wheelset (its spin must be a separate angle)')
@@ -218,6 +256,35 @@ contains
       pose(5:8) = 0
       if (allocated(self%irregularity)) &
         pose(5:8) = reshape(self%irregularity%rail_offsets(kin%track%sigma + kin%q(1)), [4])
+      v_rail = 0
+      do side = SIDE_LEFT, SIDE_RIGHT
+        rb = m%rail_body(side)
+        if (rb == 0) cycle
+        if (.not. present(all_kin)) then
+          call make_error(error, RD_ERR_INPUT, 'wheelset contact ' // trim(int_text(i)) // &
+                          ': has rail bodies; expected the kinematics of every body')
+          return
+        end if
+        if (rb > size(all_kin)) then
+          call make_error(error, RD_ERR_INPUT, 'wheelset contact ' // trim(int_text(i)) // &
+                          ': rail body index beyond the given bodies')
+          return
+        end if
+        associate (rail => all_kin(rb))
+          ! the rail displaced by the rail body's (y, z) in its track frame (the wheelset's,
+          ! checked by the scene), like an irregularity offset
+          pose(3 + 2 * side:4 + 2 * side) = pose(3 + 2 * side:4 + 2 * side) + rail%q(2:3)
+          ! velocity of the rail MATERIAL at the contact: the displacement rate relative to
+          ! the track frame. Not rail%v, which holds the co-moving frame's V X_T: the rail
+          ! does not travel with the wheelset, only its deflection does.
+          v_rail(:, side) = rail%track%a(:, 2) * rail%qdot(2) + rail%track%a(:, 3) * rail%qdot(3)
+        end associate
+        if (.not. all(finite(v_rail(:, side)))) then
+          call make_error(error, RD_ERR_RUNTIME, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // &
+                          rtoa(t) // ' s: non-finite ' // side_name(side) // ' rail body velocity')
+          return
+        end if
+      end do
       self%rail_offsets(:, i) = pose(5:8)
       if (m%cache_valid .and. all(pose == m%cache_pose)) then
         geo_res = m%cache_geo
@@ -234,7 +301,7 @@ contains
         m%cache_valid = .true.
       end if
       do side = SIDE_LEFT, SIDE_RIGHT
-        call wheel_pipeline(m, side, kin, geo_res(side), res%wheel(side), fw, mw)
+        call wheel_pipeline(m, side, kin, v_rail(:, side), geo_res(side), res%wheel(side), fw, mw)
         call check_wheel(m, geo_res(side), res%wheel(side), fw, mw, error)
         if (allocated(error)) then
           call error_context(error, 'wheelset contact ' // trim(int_text(i)) // ', ' // side_name(side) // &
@@ -243,6 +310,7 @@ contains
         end if
         force = force + fw
         moment = moment + mw
+        if (present(wheel_force)) wheel_force(:, side) = fw
       end do
       res%force = force
       res%moment = moment
@@ -252,11 +320,13 @@ contains
   end subroutine wheelset_contact_evaluate
 
   !> One wheel: every patch through Hertz, creepages and the creep law; the wheel's
-  !> resultant force fw (fixed frame) and moment mw about the wheelset CG.
-  subroutine wheel_pipeline(m, side, kin, wc, out, fw, mw)
+  !> resultant force fw (fixed frame) and moment mw about the wheelset CG. `v_rail`: the
+  !> velocity of the rail material (zero for a rigid rail; a rail body's displacement rate).
+  subroutine wheel_pipeline(m, side, kin, v_rail, wc, out, fw, mw)
     type(wheelset_model_t), intent(in) :: m
     integer, intent(in) :: side
     type(body_kinematics_t), intent(in) :: kin
+    real(wp), intent(in) :: v_rail(3)
     type(wheel_contact_t), intent(in) :: wc
     type(wheel_result_t), intent(inout) :: out
     real(wp), intent(out) :: fw(3), mw(3)
@@ -290,7 +360,8 @@ contains
         ! velocity of that wheel material point: rigid body incl. spin, the track frame's
         ! motion and curvature are in kin%v and kin%omega (thesis eqs. 4.80-4.85)
         v_c = kin%v + cross(kin%omega, r_c)
-        rate = -dot_product(v_c, n)             ! d(approach)/dt: the rail is at rest
+        ! d(approach)/dt: the wheel point's velocity relative to the rail material along -n
+        rate = -dot_product(v_c - v_rail, n)
         cf = creep_force_t()
         creep = creepage_t()
         if (p%kind == PATCH_FLANGE_SPRING) then
@@ -302,7 +373,9 @@ contains
                                       p%curv_rail_roll, p%curv_rail_lat], p%penetration, hp)
           nf = bounded_damped_force(hp%normal_force, m%damping, rate)
           ! creepages (thesis 3.6.1; eqs. 4.80-4.86): wheel material point relative to the rail
-          call creepages_from_velocities(kin%v, v_c, zero3, kin%omega, zero3, frame, m%v0, creep)
+          ! (the rail material moves with v_rail, translation only: a rail body's rotations
+          ! are frozen)
+          call creepages_from_velocities(kin%v, v_c, v_rail, kin%omega, zero3, frame, m%v0, creep)
           cp%a = hp%a
           cp%b = hp%b
           cp%normal_force = nf

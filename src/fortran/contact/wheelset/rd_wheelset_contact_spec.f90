@@ -33,6 +33,11 @@ module rd_wheelset_contact_spec
   !> mu 0.3, FASTSIM).
   type :: wheelset_contact_spec_t
     integer :: body = 0                              !< index of the wheelset body (1-based)
+    !> Flexible track (docs/theory_track_flexibility.md): index of the body that is the left
+    !> (side 1) resp. right rail under this wheelset, 0 = rigid rail fixed in the track frame.
+    !> The rail body's (y, z) in its track frame displace the rail like an irregularity; it
+    !> gets the reaction of the wheel's contact force.
+    integer :: rail_body(2) = 0
     character(len=16) :: model = 'profile'           !< 'profile' (strips) | 'knife_edge'
     !> profiles: a file path (SIMPACK .prw/.prr or table) or 's1002' / '60e1' / '54e1'.
     !> Ignored when the corresponding *_data profile is given (points allocated).
@@ -81,6 +86,13 @@ contains
     type(error_t), allocatable, intent(out) :: error
     if (spec%body < 1 .or. spec%body > nbodies) then
       call make_error(error, RD_ERR_INPUT, 'wheelset contact: body index out of range 1..number of bodies')
+    else if (any(spec%rail_body < 0 .or. spec%rail_body > nbodies)) then
+      call make_error(error, RD_ERR_INPUT, 'wheelset contact: rail body index out of range; expected 0 (rigid rail) ' // &
+                      'or 1..number of bodies')
+    else if (any(spec%rail_body == spec%body)) then
+      call make_error(error, RD_ERR_INPUT, 'wheelset contact: a rail body must differ from the wheelset body')
+    else if (spec%rail_body(1) > 0 .and. spec%rail_body(1) == spec%rail_body(2)) then
+      call make_error(error, RD_ERR_INPUT, 'wheelset contact: the left and right rail bodies must differ')
     else if (trim(spec%model) /= 'profile' .and. trim(spec%model) /= 'knife_edge') then
       call make_error(error, RD_ERR_INPUT, 'wheelset contact: contact model "' // trim(spec%model) // &
                       '" unknown; expected ' // CONTACT_MODEL_NAMES)

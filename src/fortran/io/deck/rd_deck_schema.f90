@@ -351,6 +351,11 @@ contains
     call add_group(s, 'wheelset', .true., 'wheel-rail contact of a wheelset body', [ &
       unique_name('unique wheelset name'), &
       ref_param(pstr('body', 'the body that is the wheelset', required=.true.), 'body'), &
+      ref_param(pstr('left_rail_body', 'flexible track: the body that is the left rail (same ' // &
+                     'frame offset as the wheelset, x yaw roll pitch frozen, on pad elements; ' // &
+                     'none = rigid rail)', default='none'), 'body', 'none'), &
+      ref_param(pstr('right_rail_body', 'flexible track: the body that is the right rail (as ' // &
+                     'left_rail_body)', default='none'), 'body', 'none'), &
       pstr('contact', 'contact model', default='profile', allowed='knife_edge|profile'), &
       path_param(pstr('wheel_profile', 'wheel profile file or analytic keyword', &
                       cond='required for profile contact'), .true., 's1002|60e1|54e1'), &
