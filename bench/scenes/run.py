@@ -29,16 +29,27 @@ TRADE = [("bdf", "rtol = 1e-4, atol = 1e-7"), ("bdf", "rtol = 1e-6, atol = 1e-9"
          ("adams", "rtol = 1e-6, atol = 1e-9"), ("erk", "rtol = 1e-6, atol = 1e-9"),
          ("rk4", "fixed_step = 2e-4"), ("rk4", "fixed_step = 5e-4")]
 REFERENCE = ("bdf", "rtol = 1e-10, atol = 1e-13")
+#: Profile-contact scenes run with the coloured and the dense (CVODE) difference-quotient
+#: Jacobian (&solver jacobian); Manchester only with --long (about 3 min per run).
+JACOBIAN_SCENES = ["tgv_profile_fastsim.nml"]
+JACOBIAN_LONG = ["manchester_v1_tc1.nml"]
 
 
 def run(exe, deck, out):
+    res, wall, rss, _ = run_timed(exe, deck, out)
+    return res, wall, rss
+
+
+def run_timed(exe, deck, out):
+    """(process result, wall s, peak MiB of the children so far, CPU s of this run)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     res = subprocess.run([str(exe), "run", str(deck), "-o", str(out), "--quiet"],
                          capture_output=True, text=True)
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return res, wall, after.ru_maxrss / 1024.0  # ru_maxrss: KiB on Linux (max over children so far)
+    cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+    return res, wall, after.ru_maxrss / 1024.0, cpu  # ru_maxrss: KiB on Linux
 
 
 def variant(tmp, scene, method, settings):
@@ -52,6 +63,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=str(REPO / "build"))
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--long", action="store_true", help="also the Manchester scene in the Jacobian table")
     args = ap.parse_args()
     exe = Path(args.build).resolve() / "bin" / "raildyn"
     lines = ["### Whole scenes (bench/scenes/run.py)", "",
@@ -98,6 +110,30 @@ def main():
             st = v.metadata["solver"]
             lines.append(f"| {method} | {settings} | {wall:.2f} | {st['n_steps']} | "
                          f"{st['n_rhs'] + st['n_rhs_jacobian']} | {err:.1e} |")
+        lines += ["", "Profile contact (strip geometry, FASTSIM), coloured against dense difference-quotient "
+                  "Jacobian (`&solver jacobian`): CPU seconds of the run (user + system, less exposed to "
+                  "the other jobs of a shared machine than the wall time), RHS calls of the method and "
+                  "of the Jacobians, and the largest difference of the wheelsets' lateral displacement "
+                  "between the two runs (both at the deck's rtol).", "",
+                  "| scene | Jacobian | CPU s | wall s | steps | RHS | RHS for Jacobians | Jacobians | max diff y [m] |",
+                  "|---|---|---|---|---|---|---|---|---|"]
+        for scene in JACOBIAN_SCENES + (JACOBIAN_LONG if args.long else []):
+            ys = {}
+            for mode in ("coloured", "dense"):
+                deck = tmp / f"{Path(scene).stem}_{mode}.nml"
+                deck.write_text(f"&include file = '{REPO / 'inputs' / scene}' /\n"
+                                f"&solver jacobian = '{mode}' /\n")
+                res, wall, _, cpu = run_timed(exe, deck, tmp / f"{deck.stem}.h5")
+                if res.returncode != 0:
+                    lines.append(f"| {scene} | {mode} | failed: {res.stderr.strip()[:60]} | | | | | | |")
+                    continue
+                v = raildyn.Results(tmp / f"{deck.stem}.h5")
+                chans = sorted(c for c in v.channels() if c.startswith("bodies/ws") and c.endswith("position_track"))
+                ys[mode] = np.concatenate([v.get(c)[:, 1] for c in chans])
+                st = v.metadata["solver"]
+                diff = f"{np.max(np.abs(ys['coloured'] - ys['dense'])):.1e}" if len(ys) == 2 else ""
+                lines.append(f"| {scene} | {mode} | {cpu:.1f} | {wall:.1f} | {st['n_steps']} | {st['n_rhs']} | "
+                             f"{st['n_rhs_jacobian']} | {st['n_jac']} | {diff} |")
     text = "\n".join(lines)
     print(text)
     if not args.no_write:
