@@ -6,7 +6,7 @@
 !>      each rail sinks by Q/k_z with Q = (m g + F)/2 (symmetry), and the wheelset by that
 !>      plus the Hertz approach delta(Q) of a cylinder (radius r0) on a crowned rail
 !>      (radius R), computed here from Hertz' elliptic-contact equations (Johnson,
-!>      Contact Mechanics 1985, eqs. 4.36-4.39; elliptic integrals by quadrature);
+!>      Contact Mechanics 1985, section 4.2; elliptic integrals by quadrature);
 !>      equilibrium 'solve' (no preloads): the rail sinks by (Q + m_r g)/k_z;
 !>  (b) lateral: the wheelset held (by the static solve) at y beyond the flange clearance
 !>      c: the left flange stop (k_f) and the left rail pad (k_y) are springs in series,
@@ -259,7 +259,7 @@ contains
 
   ! ------------------------------------------------------------------ helpers
   !> Normal approach of two bodies pressed by P: wheel cylinder (curvature 1/r0 in the
-  !> rolling direction x) on a rail crowned laterally (1/R). Johnson eqs. 4.36-4.39 with
+  !> rolling direction x) on a rail crowned laterally (1/R). Johnson (1985) section 4.2 with
   !> A = 1/(2 r0) < B = 1/(2 R), semi-axes a (along x) >= b, e^2 = 1 - (b/a)^2:
   !>   B/A = ((a/b)^2 E(e) - K(e)) / (K(e) - E(e)),
   !>   A = p0 b (K - E) / (E* e^2 a^2),  p0 = 3 P / (2 pi a b),  delta = p0 b K / E*,
