@@ -24,6 +24,7 @@ module rd_survey_track
   use rd_track_frame, only: set_track_frame
   use rd_cubic_spline, only: spline_not_a_knot, locate_interval
   use rd_gauss_legendre, only: gauss_legendre
+  use rd_numeric_line, only: numeric_line_t, parse_numeric_line
   implicit none
   private
   public :: survey_track_t, build_survey_track, read_survey_file
@@ -313,7 +314,8 @@ contains
     real(wp), allocatable :: table(:, :)
     integer, allocatable :: line_of(:)
     real(wp) :: values(4)
-    integer :: unit, ios, line_no, n, count, hash, k, first, last, ntok
+    integer :: unit, ios, line_no, n
+    type(numeric_line_t) :: info
 
     open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=message)
     if (ios /= 0) then
@@ -327,34 +329,10 @@ contains
       read (unit, '(a)', iostat=ios) line
       if (ios /= 0) exit
       line_no = line_no + 1
-      hash = index(line, '#')
-      if (hash > 0) line(hash:) = ' '
-      do k = 1, len_trim(line)
-        if (line(k:k) == ',' .or. line(k:k) == char(9) .or. line(k:k) == char(13)) line(k:k) = ' '
-      end do
-      if (len_trim(line) == 0) cycle
+      call parse_numeric_line(line, values, info)
+      if (info%blank) cycle
       ! exactly four numeric tokens
-      ntok = 0
-      last = 0
-      count = 0
-      do
-        first = verify(line(last + 1:), ' ')
-        if (first == 0) exit
-        first = last + first
-        last = index(line(first:), ' ') - 1
-        if (last < 0) then
-          last = len(line)
-        else
-          last = first + last - 1
-        end if
-        ntok = ntok + 1
-        if (ntok <= 4) then
-          read (line(first:last), *, iostat=ios) values(ntok)
-          if (ios == 0 .and. scan(line(first:last), '/*') == 0 .and. ieee_is_finite(values(ntok))) count = count + 1
-        end if
-        if (last >= len(line)) exit
-      end do
-      if (ntok /= 4 .or. count /= 4) then
+      if (info%n_tokens /= 4 .or. info%bad_column /= 0) then
         close (unit)
         call make_error(error, RD_ERR_INPUT, path // ':' // trim(int_text(line_no)) // &
                         ': expected 4 numbers (x y z superelevation, metres), got "' // trim(adjustl(line)) // '"')

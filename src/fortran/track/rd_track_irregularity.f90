@@ -25,6 +25,7 @@ module rd_track_irregularity
   use rd_text, only: int_text, real_text
   use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_IO
   use rd_cubic_spline, only: locate_interval
+  use rd_numeric_line, only: numeric_line_t, parse_numeric_line
   implicit none
   private
   public :: track_irregularity_t, build_track_irregularity, read_irregularity_file
@@ -122,7 +123,8 @@ contains
     character(len=256) :: message
     real(wp), allocatable :: table(:, :)
     real(wp) :: row(ncol)
-    integer :: unit, ios, line_no, n, hash, k, first, last, ntok, last_line
+    integer :: unit, ios, line_no, n, ntok, last_line
+    type(numeric_line_t) :: info
 
     open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=message)
     if (ios /= 0) then
@@ -137,40 +139,18 @@ contains
       read (unit, '(a)', iostat=ios) line
       if (ios /= 0) exit
       line_no = line_no + 1
-      hash = index(line, '#')
-      if (hash > 0) line(hash:) = ' '
-      do k = 1, len_trim(line)
-        if (line(k:k) == ',' .or. line(k:k) == char(9) .or. line(k:k) == char(13)) line(k:k) = ' '
-      end do
-      if (len_trim(line) == 0) cycle
-      ntok = 0
-      last = 0
-      do
-        first = verify(line(last + 1:), ' ')
-        if (first == 0) exit
-        first = last + first
-        last = index(line(first:), ' ') - 1
-        if (last < 0) then
-          last = len(line)
+      call parse_numeric_line(line, row, info)
+      if (info%blank) cycle
+      if (info%bad_column > 0) then
+        if (info%bad_is_nonfinite) then
+          call fail(': column ' // trim(int_text(info%bad_column)) // ' is not finite (' // info%bad_token // ')')
         else
-          last = first + last - 1
+          call fail(': column ' // trim(int_text(info%bad_column)) // ' "' // info%bad_token // &
+                    '" is not a number; expected ' // trim(int_text(ncol)) // ' numbers ' // columns)
         end if
-        ntok = ntok + 1
-        if (ntok <= ncol) then
-          ! list-directed reads accept '/' and '*' as value separators / repeat counts
-          read (line(first:last), *, iostat=ios) row(ntok)
-          if (ios /= 0 .or. scan(line(first:last), '/*') /= 0) then
-            call fail(': column ' // trim(int_text(ntok)) // ' "' // line(first:last) // '" is not a number; expected ' // &
-                      trim(int_text(ncol)) // ' numbers ' // columns)
-            return
-          end if
-          if (.not. ieee_is_finite(row(ntok))) then
-            call fail(': column ' // trim(int_text(ntok)) // ' is not finite (' // line(first:last) // ')')
-            return
-          end if
-        end if
-        if (last >= len(line)) exit
-      end do
+        return
+      end if
+      ntok = info%n_tokens
       if (ntok /= ncol) then
         call fail(': ' // trim(int_text(ntok)) // ' columns, expected ' // trim(int_text(ncol)) // ' ' // columns)
         return
