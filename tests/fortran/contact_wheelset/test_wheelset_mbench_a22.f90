@@ -38,6 +38,14 @@
 !>   quantity; in the track-frame total the normal force's lateral component cancels most of
 !>   it: 132 N of FY_TR against 2.7 kN of Fs). Our track components: X = -FX_TR, Y = FY_TR (the
 !>   same flips as above, checked on the one-patch cases where both are printed).
+!> - Contact positions on the rails at the benchmark's load (10 kN per wheel) within 1 mm of
+!>   CONTACT's reference location in all 21 cases (issue: "contact positions on the rails
+!>   within 1 mm"; on a wheel with two patches, the one carrying the larger normal force).
+!>   The benchmark prescribes the load, not the approach, and a near-conformal patch moves
+!>   with the approach: in case 2 (right wheel, a 14 mm wide patch just after the jump) the
+!>   rigid-lowering check of test_mbench_a22_geometry puts the point at -18.4, -17.4, -13.9 mm
+!>   for a 10, 20, 40 um lowering (CONTACT: -16.03 mm at its approach of 19.5 um); loaded to
+!>   10 kN, our approach is 21.5 um there.
 program test_wheelset_mbench_a22
   use rd_kinds, only: wp
   use rd_error, only: error_t
@@ -56,7 +64,8 @@ program test_wheelset_mbench_a22
   character(len=600) :: line
   real(wp) :: c(25), yws, yaw, roll_ref, pitch_rate, z, roll, f(3), m(3)
   real(wp) :: ref(2, 5), got(2, 5), tol_c(3), err_c(3), err_f(2), worst_c(3), worst_f(2), floor_c(3)
-  real(wp) :: ref_tr(2, 2), worst_tr(2), err_tr(2)
+  real(wp) :: ref_tr(2, 2), worst_tr(2), err_tr(2), u_ref(2), worst_u
+  integer :: main
   integer :: unit, ios, icase, side, k, ncomp, nmulti
   real(wp) :: pose_y, pose_psi, pose_spin
   real(wp) :: pose_z0
@@ -77,7 +86,7 @@ program test_wheelset_mbench_a22
   if (allocated(error)) error stop error%message
 
   floor_c = [5.0e-5_wp, 1.0e-5_wp, 2.0e-3_wp]
-  worst_c = 0; worst_f = 0; ncomp = 0; worst_tr = 0; nmulti = 0
+  worst_c = 0; worst_f = 0; ncomp = 0; worst_tr = 0; nmulti = 0; worst_u = 0
   open (newunit=unit, file=dir // '/reference/mbench_a22/reference.csv', status='old', action='read')
   read (unit, '(a)') line
   write (*, '(a)') 'case side  xi        ref       | eta       ref       | phi[1/m]  ref       | Fx[N]     ref      | Fy[N]     ref'
@@ -93,6 +102,8 @@ program test_wheelset_mbench_a22
     ! wheel resultants in our track components (X, Y) from CONTACT's forces on the rail
     ref_tr(1, :) = [-c(6), c(7)]
     ref_tr(2, :) = [-c(11), c(12)]
+    ! contact position on the rail profile [m] (the left rail's coordinates are mirrored)
+    u_ref = [-c(8), c(13)] * 1.0e-3_wp
     call solve_pose(-yws, -yaw, -pitch_rate, roll_ref, z, roll)
     associate (res => ws%results(1))
       do side = 1, 2
@@ -102,6 +113,14 @@ program test_wheelset_mbench_a22
           (got(side, k), ref(side, k), k = 1, 5), ' n', res%wheel(side)%n_patches, ' gamma ', res%wheel(side)%patch(1)%contact_angle
       end do
       write (*, '(a,es11.3,a,es11.3)') '      roll solved ', roll, ', CONTACT ', roll_ref
+      do side = 1, 2
+        associate (w => res%wheel(side))
+          main = maxloc(w%patch(1:w%n_patches)%normal_force, dim=1)
+          write (*, '(a,a6,f9.3,a,f9.3,a)') '      contact on the rail', merge(' left', 'right', side == 1), &
+            1.0e3_wp * w%patch(main)%u_rail, ' mm | CONTACT', 1.0e3_wp * u_ref(side), ' mm'
+          worst_u = max(worst_u, abs(w%patch(main)%u_rail - u_ref(side)))
+        end associate
+      end do
       do side = 1, 2
         write (*, '(a,a6,2es11.3,a,2es11.3)') '      wheel resultant X, Y', merge(' left', 'right', side == 1), &
           res%wheel(side)%force_track(1:2), ' | CONTACT', ref_tr(side, :)
@@ -138,6 +157,8 @@ program test_wheelset_mbench_a22
   write (*, '(a,i0,a,3f7.3,a,2f7.3)') 'cases compared: ', ncomp, '; worst error / tolerance: xi, eta, phi ', worst_c, &
     '; Fx, Fy ', worst_f
   write (*, '(a,i0,a,2f7.3)') 'cases with two patches on a wheel: ', nmulti, '; worst resultant error / tolerance: ', worst_tr
+  write (*, '(a,f7.3,a)') 'largest distance of the contact position on the rail from CONTACT''s: ', 1.0e3_wp * worst_u, ' mm'
+  call check(worst_u < 1.0e-3_wp, 'contact positions on the rails within 1 mm of CONTACT in every case (10 kN per wheel)')
   call check(ncomp >= 20, 'at least 20 of the 21 cases with one patch per wheel')
   call check(ncomp + nmulti == 21, 'every case compared (patches or wheel resultants)')
   call check(all(worst_tr <= 1), 'two-patch wheels: resultant X within 25%, Y within 15% of CONTACT''s Fs')
