@@ -251,7 +251,8 @@ contains
       ! thesis eq. 4.78: the geometry needs only the intermediate frame (y, z, roll, yaw),
       ! plus the rail offsets of the track irregularities at the wheelset centre's track
       ! position sigma + x (the rails are displaced, the rail material stays at rest, so the
-      ! creepages need no extra term)
+      ! creepages need no extra term), and on flexible track the rail bodies' displacements
+      ! (whose rates do enter: v_rail below)
       pose(1:4) = [kin%q(2), kin%q(3), kin%q(5), kin%q(4)]
       pose(5:8) = 0
       if (allocated(self%irregularity)) &
