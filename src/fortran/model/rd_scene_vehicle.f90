@@ -4,6 +4,7 @@
 module rd_scene_vehicle
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT
+  use rd_text, only: real_text
   use rd_rotation, only: rot_x, rot_y, rot_z
   use rd_deck, only: deck_t, deck_string_t
   use rd_body_spec, only: body_spec_t
@@ -345,8 +346,8 @@ contains
         d_ws = frame_offsets(bodies(ws)%frame)
         if (abs(d_rail - d_ws) > 1.0e-9_wp) then
           call make_error(error, RD_ERR_INPUT, origin_text // ": the rail body '" // name // &
-                          "' is in a track frame at frame_offset " // real_str(d_rail) // &
-                          " m; expected the wheelset's (" // real_str(d_ws) // " m): give it frame = '" // &
+                          "' is in a track frame at frame_offset " // trim(real_text(d_rail)) // &
+                          " m; expected the wheelset's (" // trim(real_text(d_ws)) // " m): give it frame = '" // &
                           ws_name // "' or the same frame_offset")
           return
         end if
@@ -360,14 +361,6 @@ contains
       end do
     end do
   end subroutine check_rail_bodies
-
-  pure function real_str(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=32) :: b
-    write (b, '(g0.6)') x
-    s = trim(adjustl(b))
-  end function real_str
 
   !> One contact spec per `&wheelset` (track placement from `&track`, run-time limits
   !> from `&simulation`).
