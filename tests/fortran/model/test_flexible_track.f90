@@ -23,6 +23,7 @@
 program test_flexible_track
   use rd_kinds, only: wp, pi, standard_gravity
   use rd_error, only: error_t
+  use model_test_support, only: failures, check, stop_on
   use rd_scene, only: scene_t
   use rd_multibody, only: multibody_t
   use rd_body_spec, only: DOF_Y, DOF_Z
@@ -34,7 +35,6 @@ program test_flexible_track
   real(wp), parameter :: m_ws = 1800.0_wp, m_r = 150.0_wp, f_load = 1.0e5_wp, r0 = 0.46_wp, &
                          crown = 0.3_wp, k_y = 5.0e7_wp, k_z = 1.0e8_wp, c_y = 2.0e4_wp, c_z = 5.0e4_wp, &
                          k_f = 2.0e7_wp, clearance = 5.0e-3_wp, shear = 8.2e10_wp, poisson = 0.28_wp
-  integer :: failures = 0
 
   call test_statics()
   call test_lateral()
@@ -366,22 +366,4 @@ contains
     end if
     out = text(:k - 1) // new // text(k + len(old):)
   end function replace
-
-  subroutine stop_on(error, what)
-    type(error_t), allocatable, intent(in) :: error
-    character(len=*), intent(in) :: what
-    if (allocated(error)) then
-      write (*, '(a)') 'FAILED: ' // what // ': ' // error%message
-      error stop 1
-    end if
-  end subroutine stop_on
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      failures = failures + 1
-      write (*, '(a)') 'FAILED: ' // what
-    end if
-  end subroutine check
 end program test_flexible_track

@@ -31,6 +31,7 @@
 program test_scene_coloured_jacobian
   use rd_kinds, only: wp
   use rd_error, only: error_t
+  use model_test_support, only: failures, check, stop_on
   use rd_scene, only: scene_t
   use rd_multibody, only: multibody_t
   use rd_scene_jacobian, only: body_coupling_t, multibody_coupling, distance2_colouring, &
@@ -44,7 +45,6 @@ program test_scene_coloured_jacobian
     "&element name = 'yawdamper1', type = 'series_spring_damper', body1 = 'car', " // &
     "body2 = 'bogie1', point1 = 11.85, 1.3, -0.7, point2 = -0.5, 1.3, 0.2, " // &
     "damping = 2.0e5, 0.0, 0.0, series_stiffness = 8.0e6 /" // new_line('a')
-  integer :: failures = 0
   character(len=:), allocatable :: tgv_text, damper_text, rails_text
   integer :: k
 
@@ -366,22 +366,4 @@ contains
     read (unit) text
     close (unit)
   end function file_text
-
-  subroutine stop_on(error, what)
-    type(error_t), allocatable, intent(in) :: error
-    character(len=*), intent(in) :: what
-    if (allocated(error)) then
-      write (*, '(a)') 'FAILED: ' // what // ': ' // error%message
-      error stop 1
-    end if
-  end subroutine stop_on
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      failures = failures + 1
-      write (*, '(a)') 'FAILED: ' // what
-    end if
-  end subroutine check
 end program test_scene_coloured_jacobian

@@ -43,6 +43,7 @@
 program test_scene_static_equilibrium
   use rd_kinds, only: wp, standard_gravity
   use rd_error, only: error_t
+  use model_test_support, only: failures, check, stop_on
   use rd_scene, only: scene_t
   use rd_multibody, only: multibody_t
   use rd_speed_law, only: speed_law_t, constant_speed
@@ -56,7 +57,6 @@ program test_scene_static_equilibrium
     "&element name = 'yawdamper1', type = 'series_spring_damper', body1 = 'car', " // &
     "body2 = 'bogie1', point1 = 11.85, 1.3, -0.7, point2 = -0.5, 1.3, 0.2, " // &
     "damping = 2.0e5, 0.0, 0.0, series_stiffness = 8.0e6 /" // nl
-  integer :: failures = 0
 
   call test_curve_start()
   call test_tight_curve_start()
@@ -328,22 +328,4 @@ contains
     write (*, '(a)') 'FAILED: no wheelset contact in the scene'
     error stop 1
   end function contact_of
-
-  subroutine stop_on(error, what)
-    type(error_t), allocatable, intent(in) :: error
-    character(len=*), intent(in) :: what
-    if (allocated(error)) then
-      write (*, '(a)') 'FAILED: ' // what // ': ' // error%message
-      error stop 1
-    end if
-  end subroutine stop_on
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      failures = failures + 1
-      write (*, '(a)') 'FAILED: ' // what
-    end if
-  end subroutine check
 end program test_scene_static_equilibrium
