@@ -95,11 +95,14 @@ program test_mbench_a22_geometry
     ' m in penetration, ', err_search_u, ' m in contact position'
   call check(err_search < 5e-7_wp .and. err_search_u < 5e-6_wp, &
     'hill-climbing strip search equals the exhaustive search within the polygon resolution')
-  ! positions and tread angles where each side has one patch. KNOWN DEVIATION: at 0.5 mm
-  ! shift (case 2) CONTACT's right patch is a 14 mm wide near-conformal patch just after
-  ! the contact jump; with the published Kik-Piotrowski eps = 0.55 our point lies 1.41 mm
-  ! from CONTACT's reference location. The 1 mm requirement is NOT met there; the case is
-  ! reported on its own (guarded against getting worse) and the rest must meet 1 mm.
+  ! positions and tread angles where each side has one patch, at a fixed rigid lowering of
+  ! 20 um (a geometry-only stand-in for the benchmark's 10 kN per wheel). At 0.5 mm shift
+  ! (case 2) CONTACT's right patch is a 14 mm wide near-conformal patch just after the
+  ! contact jump, and its point moves with the approach (-18.4, -17.4, -13.9 mm at 10, 20,
+  ! 40 um): here it lies 1.41 mm from CONTACT's location; loaded to 10 kN as the benchmark
+  ! prescribes it lies 0.71 mm away, and that 1 mm check of every case is in
+  ! test_wheelset_mbench_a22. Case 2 is reported here on its own (guarded against getting
+  ! worse) and the rest must meet 1 mm at this lowering as well.
   err_u = 0; err_g = 0; err_u_case2 = 0
   do i = 1, n
     if (nl(i) == 1) then
@@ -121,8 +124,8 @@ program test_mbench_a22_geometry
   end do
   write (*, '(a,f7.3,a,f7.4,a)') 'max |u_rail - ref| (all one-patch cases but 2) = ', 1000 * err_u, &
     ' mm, max tread |gamma - ref| = ', err_g, ' rad'
-  write (*, '(a,f7.3,a)') 'KNOWN DEVIATION case 2 (0.5 mm, at the jump): |u_rail - ref| = ', &
-    1000 * err_u_case2, ' mm (requirement 1 mm not met)'
+  write (*, '(a,f7.3,a)') 'case 2 (0.5 mm, at the jump) at this 20 um lowering: |u_rail - ref| = ', &
+    1000 * err_u_case2, ' mm (at the benchmark load of 10 kN: test_wheelset_mbench_a22)'
   call check(err_u < 1.0e-3_wp, 'contact positions on the rails within 1 mm of CONTACT (cases other than 2)')
   call check(err_u_case2 < 1.5e-3_wp, 'case 2 deviation does not grow beyond its measured 1.41 mm')
   call check(err_g < 0.02_wp, 'tread contact angles within 0.02 rad of CONTACT')
