@@ -2,12 +2,16 @@
 !> equivalent conicity of a wheel/rail pair.
 !>
 !>   raildyn profile-scan [--wheel FILE|s1002] [--rail FILE|60e1|54e1|uic60]
-!>                        [--inclination 0.025] [--rail-precant 0] [--gauge 1.435]
+!>                        [--wheel-right FILE|s1002] [--rail-right FILE|60e1|54e1|uic60]
+!>                        [--inclination 0.025] [--rail-precant 0] [--rail-precant-right P] [--gauge 1.435]
 !>                        [--back-to-back 1.360] [--radius 0.46] [--ymax 0.010]
 !>                        [--step 0.0005] [--yaw-per-shift 0] [--amplitude 0.003]...
 !>                        [--lowering 5e-6] [--csv OUT.csv] [--h5 OUT.h5] [--plot OUT.png]
 !> Profile files: SIMPACK .prw/.prr or y-z tables (rd_profile_io). --rail-precant is the
 !> inclination already contained in a rail file (e.g. 0.025 for the Manchester UIC60 v3).
+!> --wheel-right / --rail-right: a different right wheel / rail (default: the same as the
+!> left), given in the same profile frame as a left one (docs/conventions.md "Profiles");
+!> --rail-precant-right defaults to --rail-precant.
 !> All values SI. Prints a table and the equivalent conicities; exit status 0, 1 when the
 !> computation fails, 2 for bad usage (one line on stderr).
 module rd_cmd_profile_scan
@@ -28,7 +32,8 @@ module rd_cmd_profile_scan
   public :: run_profile_scan_command, write_profile_scan_csv, write_profile_scan_h5
 
   character(len=*), parameter :: usage = 'usage: raildyn profile-scan [--wheel FILE|s1002] ' // &
-    '[--rail FILE|60e1|54e1|uic60] [--inclination 0.025] [--rail-precant 0] [--gauge 1.435] ' // &
+    '[--rail FILE|60e1|54e1|uic60] [--wheel-right FILE|s1002] [--rail-right FILE|60e1|54e1|uic60] ' // &
+    '[--inclination 0.025] [--rail-precant 0] [--rail-precant-right P] [--gauge 1.435] ' // &
     '[--back-to-back 1.360] [--radius 0.46] [--ymax 0.010] [--step 0.0005] [--yaw-per-shift 0] ' // &
     '[--amplitude 0.003]... [--lowering 5e-6] [--csv OUT.csv] [--h5 OUT.h5] [--plot OUT.png]'
 
@@ -37,19 +42,20 @@ contains
   subroutine run_profile_scan_command(args, status)
     character(len=*), intent(in) :: args(:)
     integer, intent(out) :: status
-    character(len=:), allocatable :: wheel_name, rail_name, csv, h5, plot
+    character(len=:), allocatable :: wheel_name, rail_name, csv, h5, plot, wheel_right_name, rail_right_name
     type(track_placement_t) :: pl
     type(surface_options_t) :: opt
-    type(profile_t) :: wprof, rprof
+    type(profile_t) :: wprof, rprof, wprof_right, rprof_right
     type(contact_geometry_t) :: geo
     type(profile_scan_t) :: scan
     type(error_t), allocatable :: error
-    real(wp) :: ymax, step, yaw_per_shift, lowering, value, amps(32), lam
+    real(wp) :: ymax, step, yaw_per_shift, lowering, value, amps(32), lam, precant_right
     integer :: i, namp, k, ios
     logical :: ok
 
     status = 2
     wheel_name = 's1002'; rail_name = '60e1'; csv = ''; h5 = ''; plot = ''
+    wheel_right_name = ''; rail_right_name = ''; precant_right = -1
     ymax = 0.010_wp; step = 0.0005_wp; yaw_per_shift = 0; lowering = 5.0e-6_wp
     namp = 0
     i = 1
@@ -59,20 +65,22 @@ contains
         write (output_unit, '(a)') usage
         status = 0
         return
-      case ('--wheel', '--rail', '--csv', '--h5', '--plot')
+      case ('--wheel', '--rail', '--wheel-right', '--rail-right', '--csv', '--h5', '--plot')
         if (i + 1 > size(args)) then
           call bad(trim(args(i)) // ' expects a value'); return
         end if
         select case (trim(args(i)))
         case ('--wheel'); wheel_name = trim(args(i + 1))
         case ('--rail'); rail_name = trim(args(i + 1))
+        case ('--wheel-right'); wheel_right_name = trim(args(i + 1))
+        case ('--rail-right'); rail_right_name = trim(args(i + 1))
         case ('--csv'); csv = trim(args(i + 1))
         case ('--h5'); h5 = trim(args(i + 1))
         case ('--plot'); plot = trim(args(i + 1))
         end select
         i = i + 2
         cycle
-      case ('--inclination', '--rail-precant', '--gauge', '--back-to-back', '--radius', '--ymax', '--step', &
+      case ('--inclination', '--rail-precant', '--rail-precant-right', '--gauge', '--back-to-back', '--radius', '--ymax', '--step', &
             '--yaw-per-shift', '--amplitude', '--lowering')
         if (i + 1 > size(args)) then
           call bad(trim(args(i)) // ' expects a number (SI units)'); return
@@ -86,6 +94,11 @@ contains
         select case (trim(args(i)))
         case ('--inclination'); pl%inclination = value
         case ('--rail-precant'); pl%rail_precant = value
+        case ('--rail-precant-right')
+          if (.not. (value >= 0 .and. value <= 0.1_wp)) then
+            call bad('--rail-precant-right expects a slope in [0, 0.1] (tan)'); return
+          end if
+          precant_right = value
         case ('--gauge'); pl%gauge = value
         case ('--back-to-back'); pl%back_to_back = value
         case ('--radius'); pl%nominal_radius = value
@@ -113,14 +126,38 @@ contains
     status = 1
     call load_wheel_profile(wheel_name, wprof, error)
     if (.not. allocated(error)) call load_rail_profile(rail_name, rprof, error)
-    if (.not. allocated(error)) call init_strip_contact(geo, wprof, rprof, pl, opt, error)
+    ! right side: its own profile when named, else the left one (shared, not copied)
+    if (.not. allocated(error)) then
+      if (len(wheel_right_name) > 0) then
+        call load_wheel_profile(wheel_right_name, wprof_right, error)
+      else
+        wprof_right = wprof
+      end if
+    end if
+    if (.not. allocated(error)) then
+      if (len(rail_right_name) > 0) then
+        call load_rail_profile(rail_right_name, rprof_right, error)
+      else
+        rprof_right = rprof
+      end if
+    end if
+    if (precant_right < 0) precant_right = pl%rail_precant
+    if (.not. allocated(error)) call init_strip_contact(geo, wprof, rprof, pl, opt, error, &
+      wheel_profile_right=wprof_right, rail_profile_right=rprof_right, rail_precant_right=precant_right)
     if (.not. allocated(error)) call run_profile_scan(geo, ymax, step, yaw_per_shift, lowering, scan, error)
     if (allocated(error)) then
       write (error_unit, '(a)') 'raildyn profile-scan: ' // error%message
       return
     end if
 
-    write (output_unit, '(a)') '# profile scan: wheel ' // wheel_name // ', rail ' // rail_name
+    if (len(wheel_right_name) > 0 .or. len(rail_right_name) > 0) then
+      if (len(wheel_right_name) == 0) wheel_right_name = wheel_name
+      if (len(rail_right_name) == 0) rail_right_name = rail_name
+      write (output_unit, '(a)') '# profile scan: left wheel ' // wheel_name // ', rail ' // rail_name // &
+        '; right wheel ' // wheel_right_name // ', rail ' // rail_right_name
+    else
+      write (output_unit, '(a)') '# profile scan: wheel ' // wheel_name // ', rail ' // rail_name
+    end if
     write (output_unit, '(a,f7.4,a,f6.3,a,f6.3,a,f6.3,a)') '# inclination ', pl%inclination, ', gauge ', pl%gauge, &
       ' m, back-to-back ', pl%back_to_back, ' m, r0 ', pl%nominal_radius, ' m'
     write (output_unit, '(a)') '#  y[mm]  roll[mrad] nL nR  rL[mm]    rR[mm]   dr[mm]  gL[rad]  gR[rad]'
@@ -138,7 +175,12 @@ contains
     end do
     if (len(plot) > 0 .and. len(h5) == 0) h5 = plot(1:index(plot, '.', back=.true.) - 1) // '.h5'
     if (len(h5) > 0) then
-      call write_profile_scan_h5(h5, scan, wheel_name, rail_name, amps(1:namp), error)
+      if (len(wheel_right_name) > 0) then
+        call write_profile_scan_h5(h5, scan, wheel_name, rail_name, amps(1:namp), error, &
+                                   wheel_right_name, rail_right_name)
+      else
+        call write_profile_scan_h5(h5, scan, wheel_name, rail_name, amps(1:namp), error)
+      end if
       if (allocated(error)) then
         write (error_unit, '(a)') 'raildyn profile-scan: ' // error%message
         return
@@ -234,11 +276,15 @@ contains
 
   !> The scan in the results layout (docs/output.md), with the lateral shift as the axis:
   !> series `scan/...` per shift, equivalent conicities as root attributes.
-  subroutine write_profile_scan_h5(path, scan, wheel_name, rail_name, amplitudes, error)
+  !> With per-side profiles the right ones are the attributes wheel_profile_right and
+  !> rail_profile_right.
+  subroutine write_profile_scan_h5(path, scan, wheel_name, rail_name, amplitudes, error, &
+                                   wheel_right_name, rail_right_name)
     character(len=*), intent(in) :: path, wheel_name, rail_name
     type(profile_scan_t), intent(in) :: scan
     real(wp), intent(in) :: amplitudes(:)
     type(error_t), allocatable, intent(out) :: error
+    character(len=*), intent(in), optional :: wheel_right_name, rail_right_name
     type(h5_writer_t) :: w
     integer :: id_pose, id_dr, id_n(2), id_p(MAX_PATCHES, 2), k, side, p
     character(len=5), parameter :: sides(2) = ['left ', 'right']
@@ -249,6 +295,12 @@ contains
     if (allocated(error)) return
     call w%set_attribute('/', 'wheel_profile', wheel_name, error); if (allocated(error)) return
     call w%set_attribute('/', 'rail_profile', rail_name, error); if (allocated(error)) return
+    if (present(wheel_right_name)) then
+      call w%set_attribute('/', 'wheel_profile_right', wheel_right_name, error); if (allocated(error)) return
+    end if
+    if (present(rail_right_name)) then
+      call w%set_attribute('/', 'rail_profile_right', rail_right_name, error); if (allocated(error)) return
+    end if
     do k = 1, size(amplitudes)
       lam = equivalent_conicity(scan, amplitudes(k), error)
       if (allocated(error)) return

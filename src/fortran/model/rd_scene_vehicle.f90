@@ -391,11 +391,19 @@ contains
           end if
           w%wheel_profile = deck%path('wheelset', i, 'wheel_profile')
           w%rail_profile = deck%path('wheelset', i, 'rail_profile')
+          ! right side: its own profile only when given, else the same as the left one
+          if (deck%given('wheelset', i, 'wheel_profile_right')) &
+            w%wheel_profile_right = deck%path('wheelset', i, 'wheel_profile_right')
+          if (deck%given('wheelset', i, 'rail_profile_right')) &
+            w%rail_profile_right = deck%path('wheelset', i, 'rail_profile_right')
         end if
         call deck%get('wheelset', i, 'nominal_radius', w%nominal_radius, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'back_to_back', w%back_to_back, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'flange_back', w%flange_back, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'rail_precant', w%rail_precant, error); if (allocated(error)) return
+        if (deck%given('wheelset', i, 'rail_precant_right')) then
+          call deck%get('wheelset', i, 'rail_precant_right', w%rail_precant_right, error); if (allocated(error)) return
+        end if
         call deck%get('track', 1, 'gauge', w%gauge, error); if (allocated(error)) return
         call deck%get('track', 1, 'rail_inclination', w%rail_inclination, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'conicity', w%knife_conicity, error); if (allocated(error)) return

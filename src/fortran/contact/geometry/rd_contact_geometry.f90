@@ -5,6 +5,13 @@
 !> Both models are written for the left wheel; the right wheel is evaluated as the left
 !> wheel of the mirrored pose (y, phi, psi) -> (-y, -phi, -psi) and the result mirrored back
 !> (reflection Y -> -Y), so symmetric profiles give exactly mirror-symmetric contacts.
+!>
+!> Per-side profiles (docs/conventions.md "Profiles"): a right wheel or rail profile is
+!> given in the same profile frame as a left one (lateral coordinate positive towards the
+!> field side), so its surface, built exactly like the left one, IS the right side seen in
+!> the mirrored frame; the mirrored evaluation above then uses it unchanged. The right
+!> surfaces are built and stored only when a right profile is given; otherwise the right
+!> side shares the left surfaces (no copy).
 module rd_contact_geometry
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
@@ -30,17 +37,30 @@ module rd_contact_geometry
     type(track_placement_t) :: placement
     type(wheel_surface_t) :: wheel      !< strip model: left wheel, wheelset frame
     type(rail_surface_t) :: rail        !< strip model: left rail, track frame
+    !> strip model, right side in the mirrored frame (as the left one); allocated only when
+    !> the right profile differs (own_*_right), else the left surface serves both sides
+    type(wheel_surface_t) :: wheel_right
+    type(rail_surface_t) :: rail_right
+    logical :: own_wheel_right = .false.
+    logical :: own_rail_right = .false.
     type(knife_edge_t) :: knife         !< knife-edge model
   end type contact_geometry_t
 
 contains
 
-  subroutine init_strip_contact(geo, wheel_profile, rail_profile, placement, options, error)
+  !> Strip model. The optional right profiles (same profile frame as the left ones) and
+  !> right rail precant (tan; default placement%rail_precant) give the right side its own
+  !> surfaces; absent, the right side is the mirror image of the left one.
+  subroutine init_strip_contact(geo, wheel_profile, rail_profile, placement, options, error, &
+                                wheel_profile_right, rail_profile_right, rail_precant_right)
     type(contact_geometry_t), intent(out) :: geo
     type(profile_t), intent(in) :: wheel_profile, rail_profile
     type(track_placement_t), intent(in) :: placement
     type(surface_options_t), intent(in) :: options
     type(error_t), allocatable, intent(out) :: error
+    type(profile_t), intent(in), optional :: wheel_profile_right, rail_profile_right
+    real(wp), intent(in), optional :: rail_precant_right
+    type(track_placement_t) :: placement_right
     geo%model = CONTACT_MODEL_STRIP
     geo%placement = placement
     call build_wheel_surface(wheel_profile, placement, options, geo%wheel, error)
@@ -49,15 +69,60 @@ contains
       call error_context(error, 'init_strip_contact')
       return
     end if
-    if (geo%wheel%y(1) > geo%rail%y(1) .or. geo%wheel%y(geo%wheel%n) < geo%rail%y(geo%rail%n)) then
-      ! fine: the wheel may be narrower than the rail; nothing to check beyond overlap
-      if (geo%wheel%y(geo%wheel%n) < geo%rail%y(1) .or. geo%wheel%y(1) > geo%rail%y(geo%rail%n)) then
-        call make_error(error, RD_ERR_INPUT, 'init_strip_contact: wheel and rail do not overlap laterally; '// &
-          'check gauge, back-to-back distance and flange back position')
+    call check_overlap(geo%wheel, geo%rail, 'left', error)
+    if (allocated(error)) return
+    placement_right = placement
+    if (present(rail_precant_right)) placement_right%rail_precant = rail_precant_right
+    ! a right profile equal to the left one (same points) shares the left surface
+    if (present(wheel_profile_right)) geo%own_wheel_right = .not. same_points(wheel_profile_right, wheel_profile)
+    if (geo%own_wheel_right) then
+      call build_wheel_surface(wheel_profile_right, placement_right, options, geo%wheel_right, error)
+      if (allocated(error)) then
+        call error_context(error, 'init_strip_contact: right wheel')
         return
       end if
     end if
+    ! a precant differing from the left one turns the same rail data differently
+    if (present(rail_profile_right)) geo%own_rail_right = .not. same_points(rail_profile_right, rail_profile)
+    if (placement_right%rail_precant /= placement%rail_precant) geo%own_rail_right = .true.
+    if (geo%own_rail_right) then
+      if (present(rail_profile_right)) then
+        call build_rail_surface(rail_profile_right, placement_right, options, geo%rail_right, error)
+      else
+        call build_rail_surface(rail_profile, placement_right, options, geo%rail_right, error)
+      end if
+      if (allocated(error)) then
+        call error_context(error, 'init_strip_contact: right rail')
+        return
+      end if
+    end if
+    if (geo%own_wheel_right .and. geo%own_rail_right) then
+      call check_overlap(geo%wheel_right, geo%rail_right, 'right', error)
+    else if (geo%own_wheel_right) then
+      call check_overlap(geo%wheel_right, geo%rail, 'right', error)
+    else if (geo%own_rail_right) then
+      call check_overlap(geo%wheel, geo%rail_right, 'right', error)
+    end if
   end subroutine init_strip_contact
+
+  pure logical function same_points(a, b)
+    type(profile_t), intent(in) :: a, b
+    same_points = .false.
+    if (.not. (allocated(a%y) .and. allocated(b%y) .and. allocated(a%z) .and. allocated(b%z))) return
+    if (size(a%y) /= size(b%y) .or. size(a%z) /= size(b%z)) return
+    same_points = all(a%y == b%y) .and. all(a%z == b%z)
+  end function same_points
+
+  subroutine check_overlap(wheel, rail, side_name, error)
+    type(wheel_surface_t), intent(in) :: wheel
+    type(rail_surface_t), intent(in) :: rail
+    character(len=*), intent(in) :: side_name
+    type(error_t), allocatable, intent(out) :: error
+    if (wheel%y(wheel%n) < rail%y(1) .or. wheel%y(1) > rail%y(rail%n)) then
+      call make_error(error, RD_ERR_INPUT, 'init_strip_contact: ' // side_name // ' wheel and rail do not ' // &
+        'overlap laterally; check gauge, back-to-back distance and flange back position')
+    end if
+  end subroutine check_overlap
 
   subroutine init_knife_edge_contact(geo, knife, error)
     type(contact_geometry_t), intent(out) :: geo
@@ -88,7 +153,16 @@ contains
     sgn = merge(1.0_wp, -1.0_wp, side == SIDE_LEFT)
     select case (geo%model)
     case (CONTACT_MODEL_STRIP)
-      call strip_wheel_contact(geo%wheel, geo%rail, sgn * y, z, sgn * phi, sgn * psi, res)
+      ! the right side's own surfaces when given (flags fixed at init), else the shared left ones
+      if (side == SIDE_LEFT .or. .not. (geo%own_wheel_right .or. geo%own_rail_right)) then
+        call strip_wheel_contact(geo%wheel, geo%rail, sgn * y, z, sgn * phi, sgn * psi, res)
+      else if (geo%own_wheel_right .and. geo%own_rail_right) then
+        call strip_wheel_contact(geo%wheel_right, geo%rail_right, sgn * y, z, sgn * phi, sgn * psi, res)
+      else if (geo%own_wheel_right) then
+        call strip_wheel_contact(geo%wheel_right, geo%rail, sgn * y, z, sgn * phi, sgn * psi, res)
+      else
+        call strip_wheel_contact(geo%wheel, geo%rail_right, sgn * y, z, sgn * phi, sgn * psi, res)
+      end if
     case (CONTACT_MODEL_KNIFE_EDGE)
       call knife_wheel_contact(geo%knife, sgn * y, z, sgn * phi, sgn * psi, res)
     case default

@@ -35,7 +35,8 @@ module rd_wheelset_contact
   use rd_creepage, only: creepage_t, creepages_from_velocities
   use rd_creep_law, only: creep_law_t, creep_force_t, creep_patch_t => contact_patch_t
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, validate_wheelset_contact_spec, &
-    build_contact_geometry, build_hertz_params, build_creep_law, flange_tip_coordinate
+    build_contact_geometry, build_hertz_params, build_creep_law, flange_tip_coordinate, &
+    field_end_coordinate
   use rd_wheel_contact_result, only: patch_result_t, wheel_result_t, wheelset_result_t
   use rd_track_irregularity, only: track_irregularity_t
   implicit none
@@ -61,8 +62,10 @@ module rd_wheelset_contact
     real(wp) :: v0 = 0.05_wp
     real(wp) :: liftoff_limit = 0.02_wp
     real(wp) :: flange_stiffness = 0       !< knife-edge lateral stop [N/m]
-    real(wp) :: s_flange_tip = -huge(1.0_wp) !< strip model: wheel coordinate of the flange tip [m]
-    real(wp) :: s_field_end = huge(1.0_wp)   !< strip model: field-side end of the wheel profile [m]
+    !> strip model, per side (each wheel's own profile): wheel coordinate of the flange tip
+    !> and of the field-side end of the wheel profile [m]
+    real(wp) :: s_flange_tip(2) = -huge(1.0_wp)
+    real(wp) :: s_field_end(2) = huge(1.0_wp)
     !> The geometry of the last pose (y, z, roll, yaw) evaluated, reused when the next call
     !> has bitwise the same pose: a finite-difference Jacobian perturbs one state per RHS
     !> call, and only 4 of a scene's states move a given wheelset's geometry, which is ~75 %
@@ -152,8 +155,8 @@ contains
       m%liftoff_limit = spec%liftoff_limit
       m%flange_stiffness = spec%knife_flange_stiffness
       if (m%geo%model == CONTACT_MODEL_STRIP) then
-        m%s_flange_tip = flange_tip_coordinate(m%geo)
-        m%s_field_end = m%geo%wheel%s(m%geo%wheel%n)
+        m%s_flange_tip = [flange_tip_coordinate(m%geo, SIDE_LEFT), flange_tip_coordinate(m%geo, SIDE_RIGHT)]
+        m%s_field_end = [field_end_coordinate(m%geo, SIDE_LEFT), field_end_coordinate(m%geo, SIDE_RIGHT)]
       end if
     end subroutine build_one
   end subroutine wheelset_contact_init
@@ -303,7 +306,7 @@ contains
       end if
       do side = SIDE_LEFT, SIDE_RIGHT
         call wheel_pipeline(m, side, kin, v_rail(:, side), geo_res(side), res%wheel(side), fw, mw)
-        call check_wheel(m, geo_res(side), res%wheel(side), fw, mw, error)
+        call check_wheel(m, side, geo_res(side), res%wheel(side), fw, mw, error)
         if (allocated(error)) then
           call error_context(error, 'wheelset contact ' // trim(int_text(i)) // ', ' // side_name(side) // &
                              ' wheel, t = ' // rtoa(t) // ' s')
@@ -439,8 +442,9 @@ contains
   end function bounded_damped_force
 
   !> Run-time checks of one wheel (messages get time, wheelset and side from the caller).
-  subroutine check_wheel(m, wc, out, fw, mw, error)
+  subroutine check_wheel(m, side, wc, out, fw, mw, error)
     type(wheelset_model_t), intent(in) :: m
+    integer, intent(in) :: side
     type(wheel_contact_t), intent(in) :: wc
     type(wheel_result_t), intent(in) :: out
     real(wp), intent(in) :: fw(3), mw(3)
@@ -456,14 +460,14 @@ contains
         return
       end if
       do k = 1, wc%n_patches
-        if (wc%patch(k)%s_wheel < m%s_flange_tip) then
+        if (wc%patch(k)%s_wheel < m%s_flange_tip(side)) then
           call make_error(error, RD_ERR_PHYSICS, 'derailment: contact point at wheel coordinate s = ' // &
                           rtoa(wc%patch(k)%s_wheel) // ' m, beyond the flange tip (s = ' // &
-                          rtoa(m%s_flange_tip) // ' m)')
+                          rtoa(m%s_flange_tip(side)) // ' m)')
           return
         end if
         ! the geometry clamps a rail line beyond the tread to the profile's end
-        if (wc%patch(k)%s_wheel > m%s_field_end - field_end_margin) then
+        if (wc%patch(k)%s_wheel > m%s_field_end(side) - field_end_margin) then
           call make_error(error, RD_ERR_PHYSICS, 'derailment: the rail is beyond the field side of the tread '// &
                           '(contact at wheel coordinate s = ' // rtoa(wc%patch(k)%s_wheel) // ' m)')
           return

@@ -21,7 +21,8 @@ module rd_wheelset_contact_spec
   implicit none
   private
   public :: wheelset_contact_spec_t, load_contact_profiles, build_contact_geometry, build_hertz_params
-  public :: build_creep_law, validate_wheelset_contact_spec, flange_tip_coordinate
+  public :: build_creep_law, validate_wheelset_contact_spec, flange_tip_coordinate, field_end_coordinate
+  public :: load_named_profile
   public :: SIDE_LEFT, SIDE_RIGHT, CONTACT_MODEL_NAMES
 
   character(len=*), parameter :: CONTACT_MODEL_NAMES = '''profile'' or ''knife_edge'''
@@ -45,6 +46,11 @@ module rd_wheelset_contact_spec
     character(len=:), allocatable :: rail_profile
     type(profile_t) :: wheel_profile_data           !< already-read wheel profile (optional)
     type(profile_t) :: rail_profile_data            !< already-read rail profile (optional)
+    !> right wheel / right rail (side 2), same forms; not allocated: the same as the left
+    !> ones. Given in the left profile frame (docs/conventions.md "Profiles"): lateral
+    !> coordinate positive towards that wheel's / rail's field side; raildyn mirrors it.
+    character(len=:), allocatable :: wheel_profile_right
+    character(len=:), allocatable :: rail_profile_right
     real(wp) :: nominal_radius = 0.46_wp             !< r0 [m] (tape circle)
     real(wp) :: back_to_back = 1.360_wp              !< [m]
     real(wp) :: flange_back = -0.070_wp              !< wheel profile coordinate of the flange back [m]
@@ -52,6 +58,7 @@ module rd_wheelset_contact_spec
     real(wp) :: gauge_depth = 0.014_wp               !< [m]
     real(wp) :: rail_inclination = 0.025_wp          !< tan of the rail cant (1:40)
     real(wp) :: rail_precant = 0.0_wp                !< tan of an inclination already in the rail file
+    real(wp) :: rail_precant_right = -1.0_wp         !< the same for the right rail file; < 0: rail_precant
     type(surface_options_t) :: surface               !< resampling / curvature filter of the profiles
     ! knife-edge model (thesis 5.3.3)
     real(wp) :: knife_conicity = 0.2_wp              !< lambda = tan(gamma) of the cones [-]
@@ -127,10 +134,8 @@ contains
       call validate_profile(wheel, error)
     else if (.not. allocated(spec%wheel_profile)) then
       call make_error(error, RD_ERR_INPUT, 'no wheel profile given; expected a file path or ''s1002''')
-    else if (lower(spec%wheel_profile) == 's1002') then
-      call s1002_profile(wheel, analytic_spacing, error)
     else
-      call read_profile_file(spec%wheel_profile, PROFILE_WHEEL, wheel, error)
+      call load_named_profile(spec%wheel_profile, PROFILE_WHEEL, wheel, error)
     end if
     if (allocated(error)) then
       call error_context(error, 'load_contact_profiles')
@@ -143,23 +148,37 @@ contains
       call validate_profile(rail, error)
     else if (.not. allocated(spec%rail_profile)) then
       call make_error(error, RD_ERR_INPUT, 'no rail profile given; expected a file path, ''60e1'' or ''54e1''')
-    else if (lower(spec%rail_profile) == '60e1' .or. lower(spec%rail_profile) == 'uic60') then
-      call rail_head_profile(RAIL_60E1, rail, analytic_spacing, error)
-    else if (lower(spec%rail_profile) == '54e1') then
-      call rail_head_profile(RAIL_54E1, rail, analytic_spacing, error)
     else
-      call read_profile_file(spec%rail_profile, PROFILE_RAIL, rail, error)
+      call load_named_profile(spec%rail_profile, PROFILE_RAIL, rail, error)
     end if
     if (allocated(error)) call error_context(error, 'load_contact_profiles')
   end subroutine load_contact_profiles
+
+  !> A profile by analytic keyword ('s1002' wheel; '60e1' / 'uic60', '54e1' rails) or file.
+  subroutine load_named_profile(name, kind, profile, error)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: kind
+    type(profile_t), intent(out) :: profile
+    type(error_t), allocatable, intent(out) :: error
+    if (kind == PROFILE_WHEEL .and. lower(name) == 's1002') then
+      call s1002_profile(profile, analytic_spacing, error)
+    else if (kind == PROFILE_RAIL .and. (lower(name) == '60e1' .or. lower(name) == 'uic60')) then
+      call rail_head_profile(RAIL_60E1, profile, analytic_spacing, error)
+    else if (kind == PROFILE_RAIL .and. lower(name) == '54e1') then
+      call rail_head_profile(RAIL_54E1, profile, analytic_spacing, error)
+    else
+      call read_profile_file(name, kind, profile, error)
+    end if
+  end subroutine load_named_profile
 
   !> The contact geometry of the spec's model (profiles loaded when the model needs them).
   subroutine build_contact_geometry(spec, geo, error)
     type(wheelset_contact_spec_t), intent(in) :: spec
     type(contact_geometry_t), intent(out) :: geo
     type(error_t), allocatable, intent(out) :: error
-    type(profile_t) :: wheel, rail
+    type(profile_t) :: wheel, rail, wheel_right, rail_right
     type(track_placement_t) :: placement
+    real(wp) :: precant_right
     type(knife_edge_t) :: knife
     if (trim(spec%model) == 'knife_edge') then
       if (.not. (spec%knife_conicity >= 0 .and. spec%knife_conicity < 1)) then
@@ -182,7 +201,33 @@ contains
       placement%back_to_back = spec%back_to_back
       placement%flange_back = spec%flange_back
       placement%nominal_radius = spec%nominal_radius
-      call init_strip_contact(geo, wheel, rail, placement, spec%surface, error)
+      precant_right = spec%rail_precant
+      if (spec%rail_precant_right >= 0) precant_right = spec%rail_precant_right
+      ! right profiles only when named; init_strip_contact shares surfaces equal to the left ones
+      if (allocated(spec%wheel_profile_right)) then
+        call load_named_profile(spec%wheel_profile_right, PROFILE_WHEEL, wheel_right, error)
+        if (allocated(error)) call error_context(error, 'right wheel profile')
+      end if
+      if (allocated(spec%rail_profile_right) .and. .not. allocated(error)) then
+        call load_named_profile(spec%rail_profile_right, PROFILE_RAIL, rail_right, error)
+        if (allocated(error)) call error_context(error, 'right rail profile')
+      end if
+      if (allocated(error)) then
+        call error_context(error, 'build_contact_geometry')
+        return
+      end if
+      if (allocated(spec%wheel_profile_right) .and. allocated(spec%rail_profile_right)) then
+        call init_strip_contact(geo, wheel, rail, placement, spec%surface, error, wheel_profile_right=wheel_right, &
+                                rail_profile_right=rail_right, rail_precant_right=precant_right)
+      else if (allocated(spec%wheel_profile_right)) then
+        call init_strip_contact(geo, wheel, rail, placement, spec%surface, error, wheel_profile_right=wheel_right, &
+                                rail_precant_right=precant_right)
+      else if (allocated(spec%rail_profile_right)) then
+        call init_strip_contact(geo, wheel, rail, placement, spec%surface, error, rail_profile_right=rail_right, &
+                                rail_precant_right=precant_right)
+      else
+        call init_strip_contact(geo, wheel, rail, placement, spec%surface, error, rail_precant_right=precant_right)
+      end if
     end if
     if (allocated(error)) call error_context(error, 'build_contact_geometry')
   end subroutine build_contact_geometry
@@ -209,15 +254,38 @@ contains
   end subroutine build_creep_law
 
   !> Wheel profile coordinate s of the flange tip (largest radius) of the strip geometry's
-  !> wheel; a contact at smaller s has climbed over the flange.
-  pure real(wp) function flange_tip_coordinate(geo) result(s_tip)
+  !> wheel on `side` (default left; the right wheel's own profile when it has one); a
+  !> contact at smaller s has climbed over the flange.
+  pure real(wp) function flange_tip_coordinate(geo, side) result(s_tip)
     type(contact_geometry_t), intent(in) :: geo
+    integer, intent(in), optional :: side
     integer :: k
+    logical :: right
     s_tip = -huge(1.0_wp)
-    if (.not. allocated(geo%wheel%r)) return
-    k = maxloc(geo%wheel%r, dim=1)
-    s_tip = geo%wheel%s(k)
+    right = .false.
+    if (present(side)) right = side == SIDE_RIGHT .and. geo%own_wheel_right
+    if (right) then
+      k = maxloc(geo%wheel_right%r, dim=1)
+      s_tip = geo%wheel_right%s(k)
+    else
+      if (.not. allocated(geo%wheel%r)) return
+      k = maxloc(geo%wheel%r, dim=1)
+      s_tip = geo%wheel%s(k)
+    end if
   end function flange_tip_coordinate
+
+  !> Wheel profile coordinate s of the field-side end of the strip geometry's wheel on
+  !> `side` (huge when there is no strip geometry).
+  pure real(wp) function field_end_coordinate(geo, side) result(s_end)
+    type(contact_geometry_t), intent(in) :: geo
+    integer, intent(in) :: side
+    s_end = huge(1.0_wp)
+    if (side == SIDE_RIGHT .and. geo%own_wheel_right) then
+      s_end = geo%wheel_right%s(geo%wheel_right%n)
+    else if (allocated(geo%wheel%s)) then
+      s_end = geo%wheel%s(geo%wheel%n)
+    end if
+  end function field_end_coordinate
 
   pure function lower(s) result(t)
     character(len=*), intent(in) :: s

@@ -361,6 +361,12 @@ contains
                       cond='required for profile contact'), .true., 's1002|60e1|54e1'), &
       path_param(pstr('rail_profile', 'rail profile file or analytic keyword', &
                       cond='required for profile contact'), .true., 's1002|60e1|54e1'), &
+      path_param(pstr('wheel_profile_right', 'right wheel profile file or analytic keyword, in the ' // &
+                      'same profile frame as a left one (docs/conventions.md Profiles)', &
+                      cond='profile contact; default: wheel_profile'), .true., 's1002|60e1|54e1'), &
+      path_param(pstr('rail_profile_right', 'right rail profile file or analytic keyword, in the ' // &
+                      'same profile frame as a left one (docs/conventions.md Profiles)', &
+                      cond='profile contact; default: rail_profile'), .true., 's1002|60e1|54e1'), &
       preal('nominal_radius', 'm', 'nominal rolling radius', default=0.46_wp, min=0.2_wp, &
             max=0.7_wp, min_open=.true., max_open=.true.), &
       preal('contact_distance', 'm', 'distance between nominal contact points (knife edge)', &
@@ -397,6 +403,8 @@ contains
            allowed='elliptic|table'), &
       preal('rail_precant', '-', 'inclination already contained in the rail profile file (tan)', &
             default=zero, min=zero, max=0.1_wp), &
+      preal('rail_precant_right', '-', 'inclination already contained in the right rail profile ' // &
+            'file (tan)', min=zero, max=0.1_wp, cond='default: rail_precant'), &
       preal('rail_crown_radius', 'm', 'rail head radius seen by Hertz (knife edge)', &
             default=0.3_wp, min=zero, min_open=.true.), &
       preal('flange_clearance', 'm', 'lateral free play to the flange stop (knife edge; 0 = no stop)', &
