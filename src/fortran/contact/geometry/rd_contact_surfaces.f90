@@ -41,6 +41,9 @@ module rd_contact_surfaces
     real(wp), allocatable :: y(:)       !< lateral position in the wheelset frame [m], increasing
     real(wp), allocatable :: r(:)       !< radius [m]
     real(wp), allocatable :: slope(:)   !< dr/dy at the points (central differences)
+    !> dr/dy of cone j (points j, j+1), n-1 values: the k of rd_line_cone, computed once
+    !> here instead of once per rail line and cone in the strip search (hot path)
+    real(wp), allocatable :: cone_slope(:)
     real(wp), allocatable :: kappa(:)   !< smoothed profile curvature [1/m], + convex
     real(wp) :: r_max = 0, r_min = 0
     real(wp) :: nominal_radius = 0
@@ -97,6 +100,10 @@ contains
     do i = 1, n
       wheel%slope(i) = (wheel%r(min(i + 1, n)) - wheel%r(max(i - 1, 1))) / &
                        (wheel%y(min(i + 1, n)) - wheel%y(max(i - 1, 1)))
+    end do
+    allocate (wheel%cone_slope(n - 1))
+    do i = 1, n - 1
+      wheel%cone_slope(i) = (wheel%r(i + 1) - wheel%r(i)) / (wheel%y(i + 1) - wheel%y(i))
     end do
     wheel%r_max = maxval(wheel%r)
     wheel%r_min = minval(wheel%r)

@@ -13,7 +13,7 @@ module rd_strip_contact
   use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t, locate, wheel_radius_at
   use rd_contact_patch, only: contact_patch_t, wheel_contact_t, MAX_PATCHES, &
     PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
-  use rd_line_cone, only: line_cone_roots, line_cone_max_depth
+  use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
   implicit none
   private
   public :: strip_wheel_contact
@@ -61,8 +61,12 @@ contains
     ilo = max(1, locate(rail%y, ylo) - 1)
     ihi = min(rail%n, locate(rail%y, yhi) + 2)
 
-    delta = -huge(1.0_wp)
-    tline = 0; pw = 0; jseg = 1
+    ! only the window is read below (neighbours of ilo..ihi are never looked at): clearing
+    ! the whole rail cost more than the search on a fine rail (2563 lines at 0.05 mm)
+    if (ihi >= ilo) then
+      delta(ilo:ihi) = -huge(1.0_wp)
+      tline(ilo:ihi) = 0; pw(:, ilo:ihi) = 0; jseg(ilo:ihi) = 1
+    end if
     if (full_search .or. ihi - ilo < 4 * rail%coarse_stride) then
       do i = ilo, ihi
         call evaluate_line(i, delta, tline, pw, jseg, jprev)
@@ -165,7 +169,8 @@ contains
       type(contact_patch_t), intent(inout) :: patch(:)
       integer, parameter :: stack_size = 32
       integer :: lo(stack_size), hi(stack_size), top, a, b, kv, k, kc
-      real(wp) :: share(stack_size), wn, v, pmax, smax, lambda
+      real(wp) :: share(stack_size), wn, v, pmax, lambda
+      real(wp) :: smax(i1:i2)     ! smax(k) = max(delta(k+1:b)) of the current stretch
       top = 1
       lo(1) = i1; hi(1) = i2; share(1) = 1
       do while (top > 0)
@@ -173,13 +178,20 @@ contains
         top = top - 1
         kc = a - 1 + maxloc(delta(a:b), dim=1)
         ! lowest valley: a strip strictly below the maxima on both of its sides
+        ! (suffix maxima in one backward pass: maxval(delta(k+1:b)) for every candidate
+        ! was quadratic in the run length, 200 strips at 0.05 mm)
         kv = 0
         v = huge(1.0_wp)
+        if (b - a >= 2) then
+          smax(b - 1) = delta(b)
+          do k = b - 2, a + 1, -1
+            smax(k) = max(smax(k + 1), delta(k + 1))
+          end do
+        end if
         pmax = delta(a)
         do k = a + 1, b - 1
           if (delta(k) < pmax .and. delta(k) < v) then
-            smax = maxval(delta(k + 1:b))
-            if (delta(k) < smax) then
+            if (delta(k) < smax(k)) then
               kv = k; v = delta(k)
             end if
           end if
@@ -235,8 +247,8 @@ contains
       px0 = p0(1) + t0 * d(1)
       pz0 = p0(3) + t0 * d(3)
       py0 = p0(2) + t0 * d(2)
-      rho = sqrt(px0**2 + pz0**2)
       if (pz0 >= 0) return                ! above the axle: not the running surface
+      rho = sqrt(px0**2 + pz0**2)
       jprev = hunt(wheel%y, py0, jprev)       ! lines come in lateral order: O(1) search
       best = -huge(1.0_wp); jb = jprev; taub = 0
       if (rho < wheel%r_max .and. py0 > wheel%y(1) - 0.2_wp .and. py0 < wheel%y(wheel%n) + 0.2_wp) then
@@ -246,8 +258,7 @@ contains
           jlo = locate(wheel%y, py0 - half)
           jhi = locate(wheel%y, py0 + half)
           do j = jlo, jhi
-            call line_cone_max_depth(t0, rho, py0, a, d(2), wheel%y(j), wheel%r(j), &
-                                     wheel%y(j + 1), wheel%r(j + 1), found, dep, tau)
+            call cone_depth(j, t0, rho, py0, found, dep, tau)
             if (found .and. dep > best) then
               best = dep; jb = j; taub = tau
             end if
@@ -259,8 +270,7 @@ contains
           ! alpha > 1 -> j+1). The stationary point lies rho k dy^2 / a^2 from p_y(t0),
           ! a few segments at most on a yawed flange.
           j = jprev
-          call line_cone_max_depth(t0, rho, py0, a, d(2), wheel%y(j), wheel%r(j), &
-                                   wheel%y(j + 1), wheel%r(j + 1), found, dep, tau)
+          call cone_depth(j, t0, rho, py0, found, dep, tau)
           if (found) then
             best = dep; jb = j; taub = tau
             do step = 1, wheel%n
@@ -272,8 +282,7 @@ contains
               else
                 exit
               end if
-              call line_cone_max_depth(t0, rho, py0, a, d(2), wheel%y(j), wheel%r(j), &
-                                       wheel%y(j + 1), wheel%r(j + 1), found, dep, tau)
+              call cone_depth(j, t0, rho, py0, found, dep, tau)
               if (.not. (found .and. dep > best)) exit
               best = dep; jb = j; taub = tau
             end do
@@ -296,6 +305,21 @@ contains
       pw(:, i) = p0 + tline(i) * d
       jseg(i) = jb
     end subroutine evaluate_line
+
+    !> Deepest point of the line (t0, rho, py0) on cone j: rd_line_cone's
+    !> line_cone_max_depth with the cone slope precomputed in the wheel surface.
+    pure subroutine cone_depth(j, t0, rho, py0, found, dep, tau)
+      integer, intent(in) :: j
+      real(wp), intent(in) :: t0, rho, py0
+      logical, intent(out) :: found
+      real(wp), intent(out) :: dep, tau
+      if (wheel%y(j + 1) > wheel%y(j)) then
+        call line_cone_max_depth_slope(t0, rho, py0, a, d(2), wheel%y(j), wheel%r(j), wheel%y(j + 1), &
+                                       wheel%cone_slope(j), found, dep, tau)
+      else                                  ! (as line_cone_max_depth: no cone)
+        found = .false.; dep = -huge(1.0_wp); tau = 0
+      end if
+    end subroutine cone_depth
 
     !> Patch over the stretch a..b (peak strip kc) of the run r1..r2, penetration pen.
     pure subroutine fill_patch(p, a, b, kc, pen, r1, r2)
