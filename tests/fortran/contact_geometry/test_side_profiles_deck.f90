@@ -1,0 +1,90 @@
+!> Deck keys of per-side profiles (&wheelset wheel_profile_right, rail_profile_right,
+!> rail_precant_right): bad input gives one line naming deck:line, group and parameter with
+!> what is expected (expectations read off the deck text written here and the task's key
+!> names, not from the reader's output); good input reaches the contact spec, and an
+!> omitted right key keeps today's single-profile spec.
+program test_side_profiles_deck
+  use rd_kinds, only: wp
+  use rd_error, only: error_t, RD_ERR_INPUT
+  use rd_deck, only: deck_t, read_deck_string
+  use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
+  use rd_scene_vehicle, only: build_wheelset_specs
+  use geometry_test_support, only: check, failures
+  implicit none
+  type(deck_t) :: deck
+  type(error_t), allocatable :: error
+  type(wheelset_contact_spec_t), allocatable :: specs(:)
+  character(len=:), allocatable :: dir, head, ws
+  character(len=4096) :: env
+  character(len=1), parameter :: nl = achar(10)
+  integer :: st
+
+  call get_environment_variable('RAILDYN_SOURCE_DIR', env, status=st)
+  if (st /= 0) env = '.'
+  dir = trim(env) // '/tests/decks'
+  head = '&simulation t_end = 1.0 /' // nl // &
+    "&body name = 'ws', mass = 1800.0, ixx = 1000.0, iyy = 100.0, izz = 1000.0 /" // nl
+  ws = "&wheelset name = 'w', body = 'ws', wheel_profile = 's1002', rail_profile = '60e1'"
+
+  call bad_case('missing right wheel profile file', head // ws // ',' // nl // &
+    "  wheel_profile_right = 'worn_right.prw' /", &
+    [character(len=48) :: "case.nml:4: &wheelset 'wheel_profile_right'", "file not found: 'worn_right.prw'     ", &
+     'expected an existing file                '])
+  call bad_case('missing right rail profile file', head // ws // ',' // nl // &
+    "  rail_profile_right = 'high_rail.prr' /", &
+    [character(len=48) :: "case.nml:4: &wheelset 'rail_profile_right' ", "file not found: 'high_rail.prr'      ", &
+     'expected an existing file                '])
+  call bad_case('right rail precant out of range', head // ws // ',' // nl // &
+    '  rail_precant_right = 0.5 /', &
+    [character(len=48) :: "case.nml:4: &wheelset 'rail_precant_right' ", 'expected a real number in [0, 0.1]   ', &
+     '0.5                                      '])
+  call bad_case('right wheel profile as a number', head // ws // ',' // nl // &
+    '  wheel_profile_right = 3 /', &
+    [character(len=48) :: "case.nml:4: &wheelset 'wheel_profile_right'", 'expected                             ', &
+     '                                         '])
+
+  ! good input: files relative to the deck, keywords, precant
+  call read_deck_string(deck, head // ws // ", wheel_profile_right = 'profiles/wheel_test.prw'," // nl // &
+    "  rail_profile_right = '54e1', rail_precant_right = 0.025 /", dir, 'case.nml', error)
+  if (allocated(error)) error stop error%message
+  call build_wheelset_specs(deck, specs, error)
+  if (allocated(error)) error stop error%message
+  call check(allocated(specs(1)%wheel_profile_right) .and. allocated(specs(1)%rail_profile_right), &
+    'right profiles reach the contact spec')
+  if (allocated(specs(1)%wheel_profile_right)) call check(index(specs(1)%wheel_profile_right, &
+    'tests/decks/profiles/wheel_test.prw') > 0, 'right wheel file resolved relative to the deck')
+  if (allocated(specs(1)%rail_profile_right)) call check(specs(1)%rail_profile_right == '54e1', &
+    'right rail keyword kept')
+  call check(specs(1)%rail_precant_right == 0.025_wp .and. specs(1)%rail_precant == 0, &
+    'right rail precant read, left one unchanged')
+
+  call read_deck_string(deck, head // ws // ' /', dir, 'case.nml', error)
+  if (allocated(error)) error stop error%message
+  call build_wheelset_specs(deck, specs, error)
+  if (allocated(error)) error stop error%message
+  call check(.not. allocated(specs(1)%wheel_profile_right) .and. .not. allocated(specs(1)%rail_profile_right) &
+    .and. specs(1)%rail_precant_right < 0, 'no right keys: the right side is the left one (today''s deck unchanged)')
+
+  if (failures > 0) error stop 1
+  write (*, '(a)') 'test_side_profiles_deck: all checks passed'
+
+contains
+
+  subroutine bad_case(what, text, parts)
+    character(len=*), intent(in) :: what, text
+    character(len=*), intent(in) :: parts(:)
+    integer :: k
+    call read_deck_string(deck, text, dir, 'case.nml', error)
+    if (.not. allocated(error)) then
+      call check(.false., what // ': no error')
+      return
+    end if
+    write (*, '(a)') '  ' // what // ' -> ' // error%message
+    call check(error%code == RD_ERR_INPUT .and. index(error%message, nl) == 0, what // ': one-line input error')
+    do k = 1, size(parts)
+      if (len_trim(parts(k)) == 0) cycle
+      call check(index(error%message, trim(parts(k))) > 0, what // ': message names "' // trim(parts(k)) // '"')
+    end do
+  end subroutine bad_case
+
+end program test_side_profiles_deck
