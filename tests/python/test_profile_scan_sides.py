@@ -1,12 +1,15 @@
-"""`raildyn profile-scan --wheel-right / --rail-right`: per-side profiles through the command.
+"""Per-side profiles through the command line: `raildyn profile-scan --wheel-right /
+--rail-right` and `&wheelset wheel_profile_right / rail_profile_right` in a scene.
 Oracles independent of the numbers: naming the left profiles again on the right changes
-nothing (CSV identical to the plain scan), and swapping the left and right rails mirrors the
-scan (delta_r(y) = -delta_r'(-y), roll odd, patch counts swapped); the closed-form check of
-delta_r(0) is tests/fortran/contact_geometry/test_side_profiles.f90 (d)."""
+nothing (CSV identical to the plain scan; scene outputs bit for bit those of today's deck),
+and swapping the left and right rails mirrors the scan (delta_r(y) = -delta_r'(-y), roll
+odd, patch counts swapped); the closed-form check of delta_r(0) is
+tests/fortran/contact_geometry/test_side_profiles.f90 (d)."""
 import os
 import subprocess
 from pathlib import Path
 
+import h5py
 import numpy as np
 
 import raildyn
@@ -51,3 +54,32 @@ def test_right_profile_usage_errors(tmp_path):
     assert len(res.stderr.strip().splitlines()) == 1
     res = run("--rail-precant-right", "0.5")
     assert res.returncode == 2 and "--rail-precant-right" in res.stderr
+
+
+def _float_datasets(path):
+    out = {}
+    with h5py.File(path, "r") as f:
+        f.visititems(lambda n, o: out.__setitem__(n, o[()])
+                     if isinstance(o, h5py.Dataset) and o.dtype.kind == "f" else None)
+    return out
+
+
+def test_scene_with_explicit_same_right_profiles_is_unchanged(tmp_path):
+    """TGV 001 with profile contact, 0.3 s: wheelset w1 names S1002 / 60E1 again on the right
+    and every float output equals today's deck bit for bit; a different right rail (54E1)
+    changes w1's right wheel."""
+    inc = f"&include file = '{REPO / 'inputs' / 'tgv_profile_fastsim.nml'}' /\n&simulation t_end = 0.3 /\n"
+    decks = {"base": inc,
+             "same": inc + "&wheelset name = 'w1', wheel_profile_right = 's1002', rail_profile_right = '60e1' /\n",
+             "other": inc + "&wheelset name = 'w1', rail_profile_right = '54e1' /\n"}
+    out = {}
+    for name, text in decks.items():
+        (tmp_path / f"{name}.nml").write_text(text)
+        res = subprocess.run([str(EXE), "run", str(tmp_path / f"{name}.nml"), "-o", str(tmp_path / f"{name}.h5"),
+                              "--quiet"], capture_output=True, text=True, timeout=300)
+        assert res.returncode == 0, res.stderr
+        out[name] = _float_datasets(tmp_path / f"{name}.h5")
+    assert out["base"].keys() == out["same"].keys()
+    for key, value in out["base"].items():
+        assert np.array_equal(value, out["same"][key]), key
+    assert not np.array_equal(out["base"]["wheelsets/w1/right/wheel"], out["other"]["wheelsets/w1/right/wheel"])
