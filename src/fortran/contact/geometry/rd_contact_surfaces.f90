@@ -3,9 +3,10 @@
 !> (gauge measured 14 mm below the running surface, rail inclination, back-to-back
 !> distance, flange back position, nominal radius).
 !>
-!> Both surfaces are stored for the LEFT side only (wheel at +y of the wheelset frame, rail
-!> at +Y of the track frame, lateral coordinates increasing towards the field side); the
-!> right side is its mirror image (symmetric profiles), which the contact models exploit.
+!> Surfaces are built for the LEFT side (wheel at +y of the wheelset frame, rail at +Y of
+!> the track frame, lateral coordinates increasing towards the field side); the right side
+!> is the mirror image of a surface built the same way, from the left profiles or from the
+!> right ones when a side has its own (rd_contact_geometry, docs/conventions.md "Profiles").
 module rd_contact_surfaces
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT
