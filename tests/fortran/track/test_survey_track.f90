@@ -7,6 +7,7 @@
 program test_survey_track
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use rd_kinds, only: wp
+  use track_test_files, only: scratch_name, write_file, delete_file
   use rd_error, only: error_t, RD_ERR_INPUT, RD_ERR_IO
   use rd_track_point, only: track_point_t
   use rd_track, only: track_t, track_settings_t, segment_spec_t, build_track
@@ -204,7 +205,7 @@ contains
     character(len=256) :: path
     real(wp), allocatable :: x(:), y(:), z(:), h(:)
     type(error_t), allocatable :: error
-    path = scratch_name()
+    path = scratch_name('survey')
     call write_file(trim(path), [character(len=60) :: '# surveyed points: x y z superelevation', &
                     '0, 0, 1.5, 0   # first', '', '5.0 0.01 1.5 -0.01', &
                     '  10.0	0.05  1.51  -0.02', '15 0.11 1.52 -0.03'])
@@ -260,35 +261,4 @@ contains
                             origin='survey.txt')
     call check_message(error, RD_ERR_INPUT, 'build: zig-zag points', 'survey.txt', 'between points')
   end subroutine test_build_errors
-
-  function scratch_name() result(path)
-    character(len=:), allocatable :: path
-    character(len=512) :: dir
-    real(wp) :: r
-    integer :: status, length
-    character(len=12) :: tag
-    call get_environment_variable('TMPDIR', dir, length, status)
-    if (status /= 0 .or. length == 0) dir = '/tmp'
-    call random_seed()
-    call random_number(r)
-    write (tag, '(i12.12)') int(r * 1.0e12_wp, kind=8)
-    path = trim(dir) // '/raildyn_survey_' // tag // '.txt'
-  end function scratch_name
-
-  subroutine write_file(path, lines)
-    character(len=*), intent(in) :: path, lines(:)
-    integer :: unit, k
-    open (newunit=unit, file=path, status='replace', action='write')
-    do k = 1, size(lines)
-      write (unit, '(a)') trim(lines(k))
-    end do
-    close (unit)
-  end subroutine write_file
-
-  subroutine delete_file(path)
-    character(len=*), intent(in) :: path
-    integer :: unit
-    open (newunit=unit, file=path, status='old')
-    close (unit, status='delete')
-  end subroutine delete_file
 end program test_survey_track

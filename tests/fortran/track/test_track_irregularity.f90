@@ -6,6 +6,7 @@
 program test_track_irregularity
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use rd_kinds, only: wp
+  use track_test_files, only: scratch_name, write_file, delete_file
   use rd_error, only: error_t, RD_ERR_INPUT, RD_ERR_IO
   use rd_track_irregularity, only: track_irregularity_t, build_track_irregularity, read_irregularity_file
   implicit none
@@ -132,7 +133,7 @@ contains
     character(len=:), allocatable :: path
     real(wp), allocatable :: sigma(:), values(:, :)
     type(error_t), allocatable :: error
-    path = scratch_name()
+    path = scratch_name('irregularity')
     call write_file(path, [character(len=80) :: '# sigma_m alignment_m level_m cross_level_m gauge_m', '', &
                     '0.0  0.001 -0.002 0.0005 0.0  # first', '2.5, 0.0015, -0.001, 0, 0.002' // char(13), &
                     '   # a comment line', '5.0' // char(9) // '0 0 0 -0.003'])
@@ -152,7 +153,7 @@ contains
   subroutine test_file_errors()
     character(len=:), allocatable :: path
     character(len=*), parameter :: ok1 = '0 0 0 0 0', ok2 = '1 0 0 0 0'
-    path = scratch_name()
+    path = scratch_name('irregularity')
     call expect_file(path, [character(len=60) :: '# header', ok1, '1 0 abc 0 0', '2 0 0 0 0'], ':3:', &
                      'column 3 "abc" is not a number', 'non-numeric')
     call expect_file(path, [character(len=60) :: ok1, ok2, '2 0 0 0'], ':3:', '4 columns, expected 5', 'four columns')
@@ -254,35 +255,4 @@ contains
       failures = failures + 1
     end if
   end subroutine check_message
-
-  function scratch_name() result(path)
-    character(len=:), allocatable :: path
-    character(len=512) :: dir
-    real(wp) :: r
-    integer :: status, length
-    character(len=12) :: tag
-    call get_environment_variable('TMPDIR', dir, length, status)
-    if (status /= 0 .or. length == 0) dir = '/tmp'
-    call random_seed()
-    call random_number(r)
-    write (tag, '(i12.12)') int(r * 1.0e12_wp, kind=8)
-    path = trim(dir) // '/raildyn_irregularity_' // tag // '.txt'
-  end function scratch_name
-
-  subroutine write_file(path, lines)
-    character(len=*), intent(in) :: path, lines(:)
-    integer :: unit, k
-    open (newunit=unit, file=path, status='replace', action='write')
-    do k = 1, size(lines)
-      write (unit, '(a)') trim(lines(k))
-    end do
-    close (unit)
-  end subroutine write_file
-
-  subroutine delete_file(path)
-    character(len=*), intent(in) :: path
-    integer :: unit
-    open (newunit=unit, file=path, status='old')
-    close (unit, status='delete')
-  end subroutine delete_file
 end program test_track_irregularity
