@@ -33,7 +33,7 @@ def finished():
 KNOWN_FAILURES = {
     "manchester_v1_tc1": pytest.mark.xfail(
         strict=True, reason="29 of 32 quasi-static entries lie in the widened package band (90% "
-                            "required: met), but yaw ws2 is 92% off (1.9 vs 0.4-1.2 mrad; none may "
+                            "required: met), but yaw ws2 is ~90% off (1.9 vs 0.4-1.2 mrad; none may "
                             "exceed 30%): our wheelsets sit at the rigid flange-contact jump (6.2 mm, "
                             "as in the A-2.2 geometry), the packages' 1.3-1.8 mm further; open"),
 }
