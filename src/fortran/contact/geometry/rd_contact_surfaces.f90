@@ -195,7 +195,8 @@ contains
 
   !> Index j with y(j) <= x < y(j+1), clamped to [1, n-1] (bisection).
   pure integer function locate(y, x) result(j)
-    real(wp), intent(in) :: y(:), x
+    real(wp), contiguous, intent(in) :: y(:)   ! (contiguous: unit stride known, hot path)
+    real(wp), intent(in) :: x
     integer :: lo, hi, mid
     lo = 1; hi = size(y)
     if (x <= y(1)) then

@@ -91,28 +91,43 @@ contains
     real(wp), intent(in) :: t0, rho_min, py0, a, dy, y1, r1, y2, k
     logical, intent(out) :: found
     real(wp), intent(out) :: depth, tau
-    real(wp) :: c, ta, tb, tmp
+    !> lateral margin [m] inside which the clamp to the segment is skipped (see below)
+    real(wp), parameter :: inside_margin = 1.0e-9_wp
+    real(wp) :: c, ta, tb, tmp, py
+    logical :: inside
     found = .false.; depth = -huge(1.0_wp); tau = 0
     c = k * dy
-    if (dy /= 0) then
-      ta = (y1 - py0) / dy
-      tb = (y2 - py0) / dy
-      if (ta > tb) then
-        tmp = ta; ta = tb; tb = tmp
+    ! Stationary point strictly inside the segment (the common case): the clamp to [ta, tb]
+    ! is then the identity and its two divisions are skipped. Exact: with p_y 1 nm inside
+    ! [y1, y2], ta and tb (rounding error below 1e-15 m / |dy| for |y - py0| < 1 km) cannot
+    ! cross tau. Otherwise, and for a NaN, the general path.
+    inside = .false.
+    if (dy /= 0 .and. abs(c) < a) then
+      tau = c * rho_min / (a * sqrt(a**2 - c**2))
+      py = py0 + dy * tau
+      inside = py > y1 + inside_margin .and. py < y2 - inside_margin
+    end if
+    if (.not. inside) then
+      if (dy /= 0) then
+        ta = (y1 - py0) / dy
+        tb = (y2 - py0) / dy
+        if (ta > tb) then
+          tmp = ta; ta = tb; tb = tmp
+        end if
+      else
+        if (py0 < y1 .or. py0 > y2) return
+        ta = -huge(1.0_wp); tb = huge(1.0_wp)
       end if
-    else
-      if (py0 < y1 .or. py0 > y2) return
-      ta = -huge(1.0_wp); tb = huge(1.0_wp)
+      if (abs(c) < a) then
+        tau = c * rho_min / (a * sqrt(a**2 - c**2))
+      else if (c > 0) then
+        tau = tb
+      else
+        tau = ta
+      end if
+      tau = min(max(tau, ta), tb)
     end if
     found = .true.
-    if (abs(c) < a) then
-      tau = c * rho_min / (a * sqrt(a**2 - c**2))
-    else if (c > 0) then
-      tau = tb
-    else
-      tau = ta
-    end if
-    tau = min(max(tau, ta), tb)
     depth = r1 + k * (py0 + dy * tau - y1) - sqrt(rho_min**2 + (a * tau)**2)
     if (t0 /= t0) depth = t0   ! propagate a NaN pose instead of hiding it
   end subroutine line_cone_max_depth_slope

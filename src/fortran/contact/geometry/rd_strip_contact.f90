@@ -10,7 +10,7 @@
 !> for the right wheel. Pure, no heap allocation (automatic scratch arrays on the stack).
 module rd_strip_contact
   use rd_kinds, only: wp
-  use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t, locate, wheel_radius_at
+  use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t, locate
   use rd_contact_patch, only: contact_patch_t, wheel_contact_t, MAX_PATCHES, &
     PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
   use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
@@ -40,7 +40,8 @@ contains
     integer :: jseg(rail%n)
     logical :: pos(rail%n)
     real(wp) :: bt(3, 3), d(3), a, cp, sp, cs, ss, ext, ylo, yhi, w, dep
-    integer :: i, ilo, ihi, i1, i2, np
+    integer :: i, ilo, ihi, i1, i2, np, ifirst, ilast
+    logical :: is_pos, is_max
 
     full_search = .false.
     if (present(exhaustive)) full_search = exhaustive
@@ -61,12 +62,10 @@ contains
     ilo = max(1, locate(rail%y, ylo) - 1)
     ihi = min(rail%n, locate(rail%y, yhi) + 2)
 
-    ! only the window is read below (neighbours of ilo..ihi are never looked at): clearing
-    ! the whole rail cost more than the search on a fine rail (2563 lines at 0.05 mm)
-    if (ihi >= ilo) then
-      delta(ilo:ihi) = -huge(1.0_wp)
-      tline(ilo:ihi) = 0; pw(:, ilo:ihi) = 0; jseg(ilo:ihi) = 1
-    end if
+    ! No clearing of the scratch arrays (it cost more than the search on a fine rail, 2563
+    ! lines at 0.05 mm): only ilo..ihi is read, every strip there is either evaluated
+    ! (evaluate_line sets all four) or interpolated (delta only: tline, pw and jseg are read
+    ! only at penetrating strips and their neighbours, which are always evaluated).
     if (full_search .or. ihi - ilo < 4 * rail%coarse_stride) then
       do i = ilo, ihi
         call evaluate_line(i, delta, tline, pw, jseg, jprev)
@@ -94,9 +93,6 @@ contains
           do i = i1 + 1, i2 - 1
             w = real(i - i1, wp) / (i2 - i1)
             delta(i) = delta(i1) + w * (delta(i2) - delta(i1))
-            tline(i) = tline(i1) + w * (tline(i2) - tline(i1))
-            pw(:, i) = pw(:, i1) + w * (pw(:, i2) - pw(:, i1))
-            jseg(i) = jseg(i1)
           end do
         end if
         i1 = i2
@@ -110,17 +106,24 @@ contains
     ! stays continuous when the deepest point switches between two separate bumps.
     ! A local maximum whose refined peak is positive opens a patch even if no strip is
     ! positive yet, so that patches appear with zero penetration.
-    pos(ilo:ihi) = delta(ilo:ihi) > 0
+    ! One pass also notes the first and last marked strip, so that the patch scan below
+    ! covers the contact region only instead of the whole window again.
+    ifirst = 0; ilast = -1
     do i = ilo, ihi
-      if (i > ilo) then
-        if (delta(i) < delta(i - 1)) cycle
+      is_pos = delta(i) > 0
+      is_max = .true.
+      if (i > ilo) is_max = .not. (delta(i) < delta(i - 1))
+      if (is_max .and. i < ihi) is_max = .not. (delta(i) <= delta(i + 1))
+      if (is_max) then
+        dep = refined_peak(delta, i, ilo, ihi)
+        res%max_penetration = max(res%max_penetration, dep)
+        if (dep > 0) is_pos = .true.
       end if
-      if (i < ihi) then
-        if (delta(i) <= delta(i + 1)) cycle
+      pos(i) = is_pos
+      if (is_pos) then
+        if (ifirst == 0) ifirst = i
+        ilast = i
       end if
-      dep = refined_peak(delta, i, ilo, ihi)
-      res%max_penetration = max(res%max_penetration, dep)
-      if (dep > 0) pos(i) = .true.
     end do
 
     ! Patches. A run of penetrating strips may hold several bumps of the gap function (tread
@@ -129,9 +132,9 @@ contains
     ! patch vanished with its full force) and one patch per bump makes it jump when a bump
     ! fades into the flank of another. split_run blends the two descriptions continuously
     ! (docs/theory_contact_geometry.md, "Bumps within one run").
-    i = ilo
+    i = ifirst
     np = 0
-    do while (i <= ihi)
+    do while (i <= ilast)
       if (.not. pos(i)) then
         i = i + 1
         cycle
@@ -234,8 +237,9 @@ contains
     !> Deepest penetration of rail line i into the wheel (strip i).
     pure subroutine evaluate_line(i, delta, tline, pw, jseg, jprev)
       integer, intent(in) :: i
-      real(wp), intent(inout) :: delta(:), tline(:), pw(:, :)
-      integer, intent(inout) :: jseg(:), jprev
+      real(wp), contiguous, intent(inout) :: delta(:), tline(:), pw(:, :)
+      integer, contiguous, intent(inout) :: jseg(:)
+      integer, intent(inout) :: jprev
       real(wp) :: rel(3), p0(3), proj, t0, rho, py0, pz0, px0, half, best, dep, tau, taub, k, pyb, wy
       integer :: j, jlo, jhi, jb, step
       logical :: found
@@ -247,7 +251,10 @@ contains
       px0 = p0(1) + t0 * d(1)
       pz0 = p0(3) + t0 * d(3)
       py0 = p0(2) + t0 * d(2)
-      if (pz0 >= 0) return                ! above the axle: not the running surface
+      if (pz0 >= 0) then                  ! above the axle: not the running surface
+        delta(i) = -huge(1.0_wp); tline(i) = 0; pw(:, i) = 0; jseg(i) = 1
+        return
+      end if
       rho = sqrt(px0**2 + pz0**2)
       jprev = hunt(wheel%y, py0, jprev)       ! lines come in lateral order: O(1) search
       best = -huge(1.0_wp); jb = jprev; taub = 0
@@ -290,7 +297,11 @@ contains
         end if
       end if
       if (best == -huge(1.0_wp)) then
-        best = wheel_radius_at(wheel, py0) - rho    ! far away: radial gap is enough
+        ! far away: the radial gap is enough. The wheel radius at py0 is wheel_radius_at's
+        ! interpolation on segment jprev (= jb here): hunt finds the segment locate would.
+        wy = (py0 - wheel%y(jb)) / (wheel%y(jb + 1) - wheel%y(jb))
+        wy = min(max(wy, 0.0_wp), 1.0_wp)
+        best = wheel%r(jb) + wy * (wheel%r(jb + 1) - wheel%r(jb)) - rho
         taub = 0
       end if
       ! radial depth -> depth normal to the wheel surface (thesis 4.75-4.76: delta ~ d
@@ -468,7 +479,8 @@ contains
 
   !> Index j with y(j) <= x < y(j+1) (clamped to [1, n-1]), walking from a guess.
   pure integer function hunt(y, x, jguess) result(j)
-    real(wp), intent(in) :: y(:), x
+    real(wp), contiguous, intent(in) :: y(:)
+    real(wp), intent(in) :: x
     integer, intent(in) :: jguess
     integer :: n
     n = size(y)
@@ -500,7 +512,7 @@ contains
 
   !> Vertex offset (in strips, within +-0.5) of the parabola through delta(k-1..k+1).
   pure real(wp) function peak_offset(delta, k, ilo, ihi) result(x)
-    real(wp), intent(in) :: delta(:)
+    real(wp), contiguous, intent(in) :: delta(:)
     integer, intent(in) :: k, ilo, ihi
     real(wp) :: dm, dp, den
     x = 0
@@ -515,7 +527,7 @@ contains
 
   !> Vertex value of that parabola (= delta(k) at the ends of the window).
   pure real(wp) function refined_peak(delta, k, ilo, ihi) result(v)
-    real(wp), intent(in) :: delta(:)
+    real(wp), contiguous, intent(in) :: delta(:)
     integer, intent(in) :: k, ilo, ihi
     real(wp) :: x
     v = delta(k)
