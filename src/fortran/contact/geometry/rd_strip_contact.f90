@@ -39,7 +39,7 @@ contains
     real(wp) :: delta(rail%n), tline(rail%n), pw(3, rail%n)
     integer :: jseg(rail%n)
     logical :: pos(rail%n)
-    real(wp) :: bt(3, 3), d(3), a, cp, sp, cs, ss, ext, ylo, yhi, w, dep
+    real(wp) :: bt(3, 3), d(3), a, cp, sp, cs, ss, ext, ylo, yhi, w, dep, d1, dd, wstep(8)
     integer :: i, ilo, ihi, i1, i2, np, ifirst, ilast
     logical :: is_pos, is_max
 
@@ -76,6 +76,10 @@ contains
       ! interpolated (they are then far from contact: the relative curvature of wheel and
       ! rail, below 1/3 mm^-1, cannot raise a bump of coarse_gap between strips at most
       ! 1.6 mm apart: rail%coarse_stride).
+      ! the interpolation weights of a full coarse step (the same quotients as below)
+      do i = 1, min(rail%coarse_stride, size(wstep)) - 1
+        wstep(i) = real(i, wp) / rail%coarse_stride
+      end do
       i = ilo
       do
         call evaluate_line(i, delta, tline, pw, jseg, jprev)
@@ -90,10 +94,17 @@ contains
             call evaluate_line(i, delta, tline, pw, jseg, jprev)
           end do
         else
-          do i = i1 + 1, i2 - 1
-            w = real(i - i1, wp) / (i2 - i1)
-            delta(i) = delta(i1) + w * (delta(i2) - delta(i1))
-          end do
+          d1 = delta(i1); dd = delta(i2) - delta(i1)
+          if (i2 - i1 == rail%coarse_stride .and. rail%coarse_stride <= size(wstep)) then
+            do i = i1 + 1, i2 - 1
+              delta(i) = d1 + wstep(i - i1) * dd
+            end do
+          else
+            do i = i1 + 1, i2 - 1
+              w = real(i - i1, wp) / (i2 - i1)
+              delta(i) = d1 + w * dd
+            end do
+          end if
         end if
         i1 = i2
       end do
