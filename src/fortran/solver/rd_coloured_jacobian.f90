@@ -22,6 +22,7 @@
 module rd_coloured_jacobian
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
+  use rd_text, only: int_text
   implicit none
   private
   public :: jacobian_sparsity_t, build_jacobian_sparsity, dq_minimum_increment, dq_increment
@@ -63,8 +64,8 @@ contains
       return
     end if
     if (size(row_start) /= n + 1) then
-      call make_error(error, RD_ERR_INPUT, 'jacobian sparsity: row_start has ' // itoa(size(row_start)) // &
-                      ' entries; expected n + 1 = ' // itoa(n + 1))
+      call make_error(error, RD_ERR_INPUT, 'jacobian sparsity: row_start has ' // trim(int_text(size(row_start))) // &
+                      ' entries; expected n + 1 = ' // trim(int_text(n + 1)))
       return
     end if
     if (row_start(1) /= 1 .or. any(row_start(2:) < row_start(:n)) .or. row_start(n + 1) - 1 /= size(rows)) then
@@ -73,7 +74,7 @@ contains
       return
     end if
     if (any(rows < 1) .or. any(rows > n)) then
-      call make_error(error, RD_ERR_INPUT, 'jacobian sparsity: a row index is outside 1..' // itoa(n))
+      call make_error(error, RD_ERR_INPUT, 'jacobian sparsity: a row index is outside 1..' // trim(int_text(n)))
       return
     end if
     ng = maxval(column_group)
@@ -86,7 +87,7 @@ contains
       count(column_group(j)) = count(column_group(j)) + 1
     end do
     if (any(count == 0)) then
-      call make_error(error, RD_ERR_INPUT, 'jacobian sparsity: group ' // itoa(findloc(count, 0, dim=1)) // &
+      call make_error(error, RD_ERR_INPUT, 'jacobian sparsity: group ' // trim(int_text(findloc(count, 0, dim=1))) // &
                       ' has no column; expected groups numbered 1..number of groups')
       return
     end if
@@ -99,13 +100,14 @@ contains
         do k = row_start(j), row_start(j + 1) - 1
           i = rows(k)
           if (owner(i) == j) then
-            call make_error(error, RD_ERR_INPUT, 'jacobian sparsity: column ' // itoa(j) // &
-                            ' lists row ' // itoa(i) // ' twice')
+            call make_error(error, RD_ERR_INPUT, 'jacobian sparsity: column ' // trim(int_text(j)) // &
+                            ' lists row ' // trim(int_text(i)) // ' twice')
             return
           end if
           if (owner(i) /= 0) then
-            call make_error(error, RD_ERR_INPUT, 'jacobian sparsity: columns ' // itoa(owner(i)) // ' and ' // &
-                            itoa(j) // ' of group ' // itoa(g) // ' may both touch row ' // itoa(i) // &
+            call make_error(error, RD_ERR_INPUT, 'jacobian sparsity: columns ' // trim(int_text(owner(i))) // ' and ' // &
+                            trim(int_text(j)) // ' of group ' // trim(int_text(g)) // ' may both touch row ' // &
+                            trim(int_text(i)) // &
                             '; expected disjoint row sets within a group')
             return
           end if
@@ -182,12 +184,4 @@ contains
       a(j + 1) = v
     end do
   end subroutine sort_ascending
-
-  pure function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write (buf, '(i0)') i
-    s = trim(buf)
-  end function itoa
 end module rd_coloured_jacobian
