@@ -46,6 +46,9 @@ from .results import Results
 REPO = Path(__file__).resolve().parents[2]
 INPUTS = REPO / "inputs"
 VALIDATION = REPO / "validation"
+#: Where reference curves (curves/<case>/*.csv) and frozen baselines (baselines/<case>.csv) are
+#: looked up and frozen; the harness's own tests point it elsewhere to run synthetic cases.
+BANDS = VALIDATION
 
 __all__ = ["CASES", "Case", "CaseResult", "Check", "band_verdict", "manchester_acceptance",
            "load_package_table", "half_cycle_peaks", "growth_rate", "oscillation_wavelength",
@@ -368,7 +371,7 @@ def freeze_baseline(case: str, results_path: str | os.PathLike, channels: Sequen
                     every: int = 1) -> Path:
     """Copy channels of an approved run into validation/baselines/<case>.csv with a band
     value +- (rel * (max - min over the run) + abs_tol)."""
-    out = Path(out) if out else VALIDATION / "baselines" / f"{case}.csv"
+    out = Path(out) if out else BANDS / "baselines" / f"{case}.csv"
     with Results(results_path) as r:
         t = r.time[::every]
         cols, header = [t], ["time"]
@@ -1537,8 +1540,8 @@ def _check_contact_outputs(ctx: Context) -> None:
 
 def _attach_band_checks(ctx: Context) -> None:
     """Reference curves (validation/curves/<case>/*.csv) and the frozen baseline."""
-    files = sorted((VALIDATION / "curves" / ctx.case.name).glob("*.csv"))
-    base = VALIDATION / "baselines" / f"{ctx.case.name}.csv"
+    files = sorted((BANDS / "curves" / ctx.case.name).glob("*.csv"))
+    base = BANDS / "baselines" / f"{ctx.case.name}.csv"
     sources = [("reference curve", f) for f in files] + ([("baseline", base)] if base.exists() else [])
     t = ctx.time()
     for kind, f in sources:

@@ -54,6 +54,21 @@ def test_acceptance_rule_fraction_and_worst_entry():
 
 # ---------------------------------------------------------------- reference tables
 
+@pytest.fixture(autouse=True)
+def _no_repository_bands(tmp_path, monkeypatch):
+    """The synthetic runs here test the rules; the repository's frozen baselines and reference
+    curves (validation/baselines, validation/curves) belong to the real runs of
+    test_validation_cases.py and would judge these made-up histories."""
+    monkeypatch.setattr(V, "BANDS", tmp_path / "no_bands")
+
+
+def test_repository_baselines_are_readable():
+    """Every frozen baseline parses and names channels of the form 'series:component'."""
+    for f in sorted((V.VALIDATION / "baselines").glob("*.csv")):
+        bands = V.read_band_csv(f)
+        assert bands and all(":" in ch for ch in bands), f
+
+
 M_V1 = 44482.0          # manchester_vehicle1.md: total mass
 G = 9.80665
 
