@@ -10,6 +10,7 @@
 !> Exit status 0, or 2 with one line on stderr for bad usage.
 module rd_cmd_creep
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use rd_text, only: sci_text
   use rd_kinds, only: wp
   use rd_error, only: error_t
   use rd_creep_law, only: creep_law_t, contact_patch_t, creepage_t, creep_force_t, creep_law_options_t, &
@@ -99,8 +100,8 @@ contains
       call bad(error%message); return
     end if
     call law%compute(patch, creep, force)
-    write (output_unit, '(a)') '{"fx": ' // num(force%fx) // ', "fy": ' // num(force%fy) // &
-      ', "mz": ' // num(force%mz) // '}'
+    write (output_unit, '(a)') '{"fx": ' // trim(sci_text(force%fx, 16, 3)) // ', "fy": ' // trim(sci_text(force%fy, 16, 3)) // &
+      ', "mz": ' // trim(sci_text(force%mz, 16, 3)) // '}'
     status = 0
 
   contains
@@ -123,12 +124,4 @@ contains
     character(len=*), intent(in) :: message
     write (error_unit, '(a)') 'raildyn creep: ' // trim(message) // ' (see raildyn creep --help)'
   end subroutine bad
-
-  function num(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=32) :: buf
-    write (buf, '(es24.16e3)') x
-    s = trim(adjustl(buf))
-  end function num
 end module rd_cmd_creep

@@ -11,6 +11,7 @@
 !> Exit status 0, or 2 with one line on stderr for bad usage.
 module rd_cmd_hertz
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use rd_text, only: int_text, sci_text
   use rd_kinds, only: wp
   use rd_error, only: error_t
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_init, hertz_from_force, hertz_from_penetration
@@ -122,11 +123,12 @@ contains
     else
       call hertz_from_penetration(params, curv, penetration, patch)
     end if
-    write (output_unit, '(a)') '{"a": ' // num(patch%a) // ', "b": ' // num(patch%b) // &
-      ', "normal_force": ' // num(patch%normal_force) // ', "p0": ' // num(patch%p0) // &
-      ', "approach": ' // num(patch%approach) // ', "stiffness": ' // num(patch%stiffness) // &
-      ', "m": ' // num(patch%m) // ', "n": ' // num(patch%n) // ', "theta": ' // num(patch%theta) // &
-      ', "warning": ' // itoa(patch%warning) // '}'
+    write (output_unit, '(a)') '{"a": ' // trim(sci_text(patch%a, 16, 3)) // ', "b": ' // trim(sci_text(patch%b, 16, 3)) // &
+      ', "normal_force": ' // trim(sci_text(patch%normal_force, 16, 3)) // ', "p0": ' // trim(sci_text(patch%p0, 16, 3)) // &
+      ', "approach": ' // trim(sci_text(patch%approach, 16, 3)) // ', "stiffness": ' // trim(sci_text(patch%stiffness, 16, 3)) // &
+      ', "m": ' // trim(sci_text(patch%m, 16, 3)) // ', "n": ' // trim(sci_text(patch%n, 16, 3)) // &
+      ', "theta": ' // trim(sci_text(patch%theta, 16, 3)) // &
+      ', "warning": ' // trim(int_text(patch%warning)) // '}'
     status = 0
 
   contains
@@ -187,20 +189,4 @@ contains
     character(len=*), intent(in) :: message
     write (error_unit, '(a)') 'raildyn hertz: ' // trim(message) // ' (see raildyn hertz --help)'
   end subroutine bad
-
-  function num(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=32) :: buf
-    write (buf, '(es24.16e3)') x
-    s = trim(adjustl(buf))
-  end function num
-
-  function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write (buf, '(i0)') i
-    s = trim(buf)
-  end function itoa
 end module rd_cmd_hertz

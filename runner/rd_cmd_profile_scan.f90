@@ -17,6 +17,7 @@
 module rd_cmd_profile_scan
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use rd_text, only: sci_text
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_IO
   use rd_profile, only: profile_t
@@ -265,13 +266,11 @@ contains
   function num(x) result(t)
     real(wp), intent(in) :: x
     character(len=:), allocatable :: t
-    character(len=32) :: b
     if (x == 0) then
       t = '0'
-      return
+    else
+      t = trim(sci_text(x, 15, 3))
     end if
-    write (b, '(es23.15e3)') x
-    t = trim(adjustl(b))
   end function num
 
   !> The scan in the results layout (docs/output.md), with the lateral shift as the axis:

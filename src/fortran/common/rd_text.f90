@@ -6,7 +6,7 @@ module rd_text
   use rd_kinds, only: wp, i8
   implicit none
   private
-  public :: int_text, real_text
+  public :: int_text, real_text, sci_text, lower_case
 
   interface int_text
     module procedure int_text_4, int_text_8
@@ -52,4 +52,35 @@ contains
       text = adjustl(text)
     end if
   end function real_text
+
+  !> Scientific notation with `decimals` digits after the point, left-adjusted (call sites
+  !> trim): sci_text(x, 5) is Fortran's es.5 edit ("1.23457E-03"); `exponent_digits` as
+  !> the Ee suffix (sci_text(x, 16, 3): "1.2345678901234568E-003", full double precision).
+  pure function sci_text(x, decimals, exponent_digits) result(text)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: decimals
+    integer, intent(in), optional :: exponent_digits
+    character(len=40) :: text
+    character(len=24) :: edit
+    if (present(exponent_digits)) then
+      write (edit, '(a,i0,a,i0,a,i0,a)') '(es', decimals + 8 + exponent_digits, '.', decimals, 'e', &
+        exponent_digits, ')'
+    else
+      write (edit, '(a,i0,a,i0,a)') '(es', decimals + 10, '.', decimals, ')'
+    end if
+    write (text, edit) x
+    text = adjustl(text)
+  end function sci_text
+
+  !> ASCII lower case (deck keywords, profile names, method names).
+  pure function lower_case(s) result(t)
+    character(len=*), intent(in) :: s
+    character(len=len(s)) :: t
+    integer :: i, c
+    t = s
+    do i = 1, len(s)
+      c = iachar(s(i:i))
+      if (c >= iachar('A') .and. c <= iachar('Z')) t(i:i) = achar(c + 32)
+    end do
+  end function lower_case
 end module rd_text

@@ -26,6 +26,7 @@ module rd_integrator
   use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_loc, c_int, &
                                          c_long, c_int64_t, c_double, c_char
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use rd_text, only: int_text, sci_text
   use rd_kinds, only: wp, i8
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME, &
                       RD_ERR_HANDLE
@@ -33,7 +34,7 @@ module rd_integrator
   use rd_integrator_settings, only: integrator_settings_t, integrator_stats_t, &
                                     validate_settings, method_id_from_name, METHOD_BDF, &
                                     METHOD_ADAMS, METHOD_ERK, METHOD_RK4, METHOD_HEUN
-  use rd_rhs_context, only: rhs_context_t, jacobian_i, real_to_text, RHS_OK, RHS_RECOVERABLE
+  use rd_rhs_context, only: rhs_context_t, jacobian_i, RHS_OK, RHS_RECOVERABLE
   use rd_coloured_jacobian, only: jacobian_sparsity_t
   use rd_fixed_step, only: fixed_step_work_t, rk4_step, heun_step
   use rd_sundials_glue, only: rd_glue_create, rd_glue_destroy, rd_glue_set_tolerances, &
@@ -112,8 +113,8 @@ contains
       return
     end if
     if (size(y0) /= self%n) then
-      call make_error(error, RD_ERR_INPUT, 'y0 has ' // itoa(size(y0)) // ' components but ' // &
-                      'the system has ' // itoa(self%n) // '; expected one value per state')
+      call make_error(error, RD_ERR_INPUT, 'y0 has ' // trim(int_text(size(y0))) // ' components but ' // &
+                      'the system has ' // trim(int_text(self%n)) // '; expected one value per state')
       call error_context(error, 'integrator init')
       return
     end if
@@ -136,8 +137,8 @@ contains
     end if
     if (present(jacobian_sparsity)) then
       if (jacobian_sparsity%n /= self%n) then
-        call make_error(error, RD_ERR_INPUT, 'jacobian_sparsity is for ' // itoa(jacobian_sparsity%n) // &
-                        ' states but the system has ' // itoa(self%n) // '; expected one column per state')
+        call make_error(error, RD_ERR_INPUT, 'jacobian_sparsity is for ' // trim(int_text(jacobian_sparsity%n)) // &
+                        ' states but the system has ' // trim(int_text(self%n)) // '; expected one column per state')
         call error_context(error, 'integrator init')
         return
       end if
@@ -212,13 +213,13 @@ contains
       return
     end if
     if (size(y) /= self%n) then
-      call make_error(error, RD_ERR_INPUT, 'advance: y has ' // itoa(size(y)) // &
-                      ' components; expected ' // itoa(self%n))
+      call make_error(error, RD_ERR_INPUT, 'advance: y has ' // trim(int_text(size(y))) // &
+                      ' components; expected ' // trim(int_text(self%n)))
       return
     end if
     if (.not. ieee_is_finite(t_out) .or. t_out < self%t) then
-      call make_error(error, RD_ERR_INPUT, 'advance: t_out = ' // real_to_text(t_out) // &
-                      ' s is not a finite time >= the current time ' // real_to_text(self%t) // ' s')
+      call make_error(error, RD_ERR_INPUT, 'advance: t_out = ' // trim(sci_text(t_out, 8)) // &
+                      ' s is not a finite time >= the current time ' // trim(sci_text(self%t, 8)) // ' s')
       return
     end if
     ! An interval below the time resolution: nothing to integrate (SUNDIALS would refuse
@@ -260,8 +261,8 @@ contains
     bad = first_non_finite(self%y)
     if (bad /= 0) then
       call make_error(error, RD_ERR_RUNTIME, self%method_name() // ': the state became ' // &
-                      'non-finite (NaN or Inf) in component ' // itoa(bad) // ' by t = ' // &
-                      real_to_text(self%t) // ' s; output not written')
+                      'non-finite (NaN or Inf) in component ' // trim(int_text(bad)) // ' by t = ' // &
+                      trim(sci_text(self%t, 8)) // ' s; output not written')
       self%failed = .true.
       return
     end if
@@ -285,9 +286,9 @@ contains
     ratio = interval / self%settings%fixed_step
     if (ratio > real(self%settings%max_num_steps, wp) + 0.5_wp) then
       call make_error(error, RD_ERR_RUNTIME, self%method_name() // ': advancing from t = ' // &
-                      real_to_text(t_start) // ' s to ' // real_to_text(t_out) // ' s needs ' // &
-                      real_to_text(ratio) // ' steps of ' // real_to_text(self%settings%fixed_step) // &
-                      ' s, more than max_num_steps = ' // itoa(self%settings%max_num_steps))
+                      trim(sci_text(t_start, 8)) // ' s to ' // trim(sci_text(t_out, 8)) // ' s needs ' // &
+                      trim(sci_text(ratio, 8)) // ' steps of ' // trim(sci_text(self%settings%fixed_step, 8)) // &
+                      ' s, more than max_num_steps = ' // trim(int_text(self%settings%max_num_steps)))
       return
     end if
     if (abs(ratio - anint(ratio)) <= 1.0e-9_wp * max(1.0_wp, ratio)) then
@@ -316,8 +317,8 @@ contains
         if (status == RHS_RECOVERABLE) call error_context(error, &
           'a fixed-step method cannot retry with a smaller step')
         call error_context(error, self%method_name() // ' failed advancing to ' // &
-                           real_to_text(t_out) // ' s (time reached ' // real_to_text(t_step) // &
-                           ' s, step h = ' // real_to_text(h) // ' s)')
+                           trim(sci_text(t_out, 8)) // ' s (time reached ' // trim(sci_text(t_step, 8)) // &
+                           ' s, step h = ' // trim(sci_text(h, 8)) // ' s)')
         return
       end if
       self%fixed_stats%steps = self%fixed_stats%steps + 1
@@ -338,9 +339,9 @@ contains
     logical :: rhs_flag
 
     call self%get_stats(stats)
-    text = self%method_name() // ' failed advancing to ' // real_to_text(t_out) // &
-           ' s (time reached ' // real_to_text(t_reached) // ' s, last step h = ' // &
-           real_to_text(stats%last_step) // ' s): ' // self%sundials_text(flag)
+    text = self%method_name() // ' failed advancing to ' // trim(sci_text(t_out, 8)) // &
+           ' s (time reached ' // trim(sci_text(t_reached, 8)) // ' s, last step h = ' // &
+           trim(sci_text(stats%last_step, 8)) // ' s): ' // self%sundials_text(flag)
     code = RD_ERR_RUNTIME
     rhs_flag = any(flag == [flag_rhsfunc_fail, flag_first_rhsfunc_err, flag_reptd_rhsfunc_err, &
                             flag_unrec_rhsfunc_err, flag_lsetup_fail])
@@ -364,7 +365,7 @@ contains
     character(len=:), allocatable :: detail
 
     call rd_glue_flag_name(self%glue, int(flag, c_int), buf, int(msg_len, c_int))
-    text = c_string_to_fortran(buf) // ' (flag ' // itoa(flag) // ')'
+    text = c_string_to_fortran(buf) // ' (flag ' // trim(int_text(flag)) // ')'
     call rd_glue_last_message(self%glue, buf, int(msg_len, c_int))
     detail = c_string_to_fortran(buf)
     if (len(detail) > 0) text = text // ': ' // detail
@@ -386,8 +387,8 @@ contains
       return
     end if
     if (size(y) /= self%n) then
-      call make_error(error, RD_ERR_INPUT, 'reinit: y has ' // itoa(size(y)) // &
-                      ' components; expected ' // itoa(self%n))
+      call make_error(error, RD_ERR_INPUT, 'reinit: y has ' // trim(int_text(size(y))) // &
+                      ' components; expected ' // trim(int_text(self%n)))
       return
     end if
     if (.not. ieee_is_finite(t) .or. .not. all(ieee_is_finite(y))) then
@@ -506,19 +507,4 @@ contains
       end if
     end do
   end function first_non_finite
-
-  function itoa(i) result(s)
-    class(*), intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=24) :: buf
-    select type (i)
-    type is (integer)
-      write (buf, '(i0)') i
-    type is (integer(i8))
-      write (buf, '(i0)') i
-    class default
-      buf = '?'
-    end select
-    s = trim(buf)
-  end function itoa
 end module rd_integrator

@@ -1,6 +1,7 @@
 !> Integrator settings and statistics (the parameters an integrator is built from and
 !> the counters it reports). See docs/theory_solver.md for the meaning of each field.
 module rd_integrator_settings
+  use rd_text, only: sci_text, lower_case
   use rd_kinds, only: wp, i8
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   implicit none
@@ -51,7 +52,7 @@ contains
   pure function method_id_from_name(name) result(id)
     character(len=*), intent(in) :: name
     integer :: id
-    select case (lower(trim(adjustl(name))))
+    select case (lower_case(trim(adjustl(name))))
     case ('bdf'); id = METHOD_BDF
     case ('adams'); id = METHOD_ADAMS
     case ('erk'); id = METHOD_ERK
@@ -76,7 +77,7 @@ contains
       return
     end if
     if (.not. (settings%rtol >= 0.0_wp .and. settings%rtol < 1.0_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'rtol = ' // fmt(settings%rtol) // &
+      call make_error(error, RD_ERR_INPUT, 'rtol = ' // trim(sci_text(settings%rtol, 4)) // &
                       ' is invalid; expected 0 <= rtol < 1 (e.g. 1e-6)')
       return
     end if
@@ -99,7 +100,7 @@ contains
       end if
     else
       if (.not. (settings%atol >= 0.0_wp)) then
-        call make_error(error, RD_ERR_INPUT, 'atol = ' // fmt(settings%atol) // &
+        call make_error(error, RD_ERR_INPUT, 'atol = ' // trim(sci_text(settings%atol, 4)) // &
                         ' is invalid; expected atol >= 0 (e.g. 1e-8)')
         return
       end if
@@ -110,12 +111,12 @@ contains
       end if
     end if
     if (.not. (settings%max_step >= 0.0_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'max_step = ' // fmt(settings%max_step) // &
+      call make_error(error, RD_ERR_INPUT, 'max_step = ' // trim(sci_text(settings%max_step, 4)) // &
                       ' is invalid; expected max_step >= 0 s (0 = unlimited)')
       return
     end if
     if (.not. (settings%min_step >= 0.0_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'min_step = ' // fmt(settings%min_step) // &
+      call make_error(error, RD_ERR_INPUT, 'min_step = ' // trim(sci_text(settings%min_step, 4)) // &
                       ' is invalid; expected min_step >= 0 s')
       return
     end if
@@ -124,7 +125,7 @@ contains
       return
     end if
     if (.not. (settings%initial_step >= 0.0_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'initial_step = ' // fmt(settings%initial_step) // &
+      call make_error(error, RD_ERR_INPUT, 'initial_step = ' // trim(sci_text(settings%initial_step, 4)) // &
                       ' is invalid; expected initial_step >= 0 s (0 = automatic)')
       return
     end if
@@ -148,7 +149,7 @@ contains
       end if
     case (METHOD_RK4, METHOD_HEUN)
       if (.not. (settings%fixed_step > 0.0_wp .and. settings%fixed_step < huge(1.0_wp))) then
-        call make_error(error, RD_ERR_INPUT, 'fixed_step = ' // fmt(settings%fixed_step) // &
+        call make_error(error, RD_ERR_INPUT, 'fixed_step = ' // trim(sci_text(settings%fixed_step, 4)) // &
                         " is invalid for method '" // trim(adjustl(settings%method)) // &
                         "'; expected a step size > 0 s")
         return
@@ -156,22 +157,4 @@ contains
     end select
   end subroutine validate_settings
 
-  pure function lower(s) result(r)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: r
-    integer :: i, c
-    r = s
-    do i = 1, len(s)
-      c = iachar(s(i:i))
-      if (c >= iachar('A') .and. c <= iachar('Z')) r(i:i) = achar(c + 32)
-    end do
-  end function lower
-
-  function fmt(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=32) :: buf
-    write (buf, '(es12.4)') x
-    s = trim(adjustl(buf))
-  end function fmt
 end module rd_integrator_settings

@@ -8,13 +8,14 @@
 !> < 0 fatal) and refuses non-finite derivatives, so a NaN never enters the state silently.
 module rd_rhs_context
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use rd_text, only: int_text, sci_text
   use rd_kinds, only: wp, i8
   use rd_error, only: error_t, make_error, error_context, RD_ERR_RUNTIME
   use rd_ode_system, only: ode_system_t
   use rd_coloured_jacobian, only: jacobian_sparsity_t, dq_minimum_increment, dq_increment
   implicit none
   private
-  public :: rhs_context_t, jacobian_i, real_to_text, RHS_OK, RHS_RECOVERABLE, RHS_FATAL
+  public :: rhs_context_t, jacobian_i, RHS_OK, RHS_RECOVERABLE, RHS_FATAL
 
   integer, parameter :: RHS_OK = 0
   integer, parameter :: RHS_RECOVERABLE = 1
@@ -76,7 +77,7 @@ contains
     recoverable = .false.
     call self%system%rhs(t, y, ydot, error, recoverable)
     if (allocated(error)) then
-      call error_context(error, 'rhs at t = ' // real_to_text(t) // ' s')
+      call error_context(error, 'rhs at t = ' // trim(sci_text(t, 8)) // ' s')
       call move_alloc(error, self%rhs_error)
       self%rhs_failures = self%rhs_failures + 1
       status = merge(RHS_RECOVERABLE, RHS_FATAL, recoverable)
@@ -87,9 +88,9 @@ contains
       if (.not. ieee_is_finite(ydot(i))) then
         ! A non-finite derivative is often a trial state far off (too large a step);
         ! report it as recoverable so an adaptive method retries with a smaller step.
-        call make_error(self%rhs_error, RD_ERR_RUNTIME, 'rhs at t = ' // real_to_text(t) // &
+        call make_error(self%rhs_error, RD_ERR_RUNTIME, 'rhs at t = ' // trim(sci_text(t, 8)) // &
                         ' s returned a non-finite derivative (NaN or Inf) in component ' // &
-                        int_to_text(i))
+                        trim(int_text(i)))
         if (.not. all(ieee_is_finite(y))) self%rhs_error%message = &
           self%rhs_error%message // ' (the state itself is non-finite)'
         self%rhs_failures = self%rhs_failures + 1
@@ -117,14 +118,14 @@ contains
     end if
     call self%jacobian(self%system, t, y, ydot, jac, error)
     if (allocated(error)) then
-      call error_context(error, 'jacobian at t = ' // real_to_text(t) // ' s')
+      call error_context(error, 'jacobian at t = ' // trim(sci_text(t, 8)) // ' s')
       call move_alloc(error, self%rhs_error)
       self%fatal = .true.
       status = RHS_FATAL
       return
     end if
     if (.not. all(ieee_is_finite(jac))) then
-      call make_error(self%rhs_error, RD_ERR_RUNTIME, 'jacobian at t = ' // real_to_text(t) // &
+      call make_error(self%rhs_error, RD_ERR_RUNTIME, 'jacobian at t = ' // trim(sci_text(t, 8)) // &
                       ' s has a non-finite entry (NaN or Inf)')
       status = RHS_RECOVERABLE
       return
@@ -180,21 +181,4 @@ contains
       end do
     end associate
   end function evaluate_coloured_jacobian
-
-  !> Short text for a real in messages (e.g. "1.2345678E-03").
-  function real_to_text(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=32) :: buf
-    write (buf, '(es15.8)') x
-    s = trim(adjustl(buf))
-  end function real_to_text
-
-  function int_to_text(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write (buf, '(i0)') i
-    s = trim(buf)
-  end function int_to_text
 end module rd_rhs_context

@@ -9,6 +9,7 @@
 !> commas; `#` or `!` start comments; metres unless a comment states `units: mm` (or cm, m);
 !> columns are already in our conventions (wheel: s, F; rail: y field-positive, z up).
 module rd_profile_io
+  use rd_text, only: lower_case
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_IO
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL, validate_profile, profile_kind_name
@@ -202,7 +203,7 @@ contains
       nline = nline + 1
       p = scan(line, '#!')
       if (p > 0) then
-        lower = to_lower(line(p + 1:))
+        lower = lower_case(line(p + 1:))
         if (index(lower, 'units') > 0 .or. index(lower, 'unit:') > 0 .or. index(lower, 'unit =') > 0) then
           if (index(lower, 'mm') > 0) then
             factor = 1.0e-3_wp
@@ -278,16 +279,6 @@ contains
     p = index(line, mark)
     if (p > 0) line(p:) = ' '
   end subroutine strip_comment
-
-  pure function to_lower(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: t
-    integer :: i
-    t = s
-    do i = 1, len(s)
-      if (s(i:i) >= 'A' .and. s(i:i) <= 'Z') t(i:i) = achar(iachar(s(i:i)) + 32)
-    end do
-  end function to_lower
 
   subroutine grow(a, b)
     real(wp), allocatable, intent(inout) :: a(:), b(:)

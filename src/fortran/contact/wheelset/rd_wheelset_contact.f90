@@ -24,7 +24,7 @@
 !> results of the last evaluation in `results` for the outputs.
 module rd_wheelset_contact
   use rd_kinds, only: wp
-  use rd_text, only: int_text
+  use rd_text, only: int_text, sci_text
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_PHYSICS
   use rd_rotation, only: cross
   use rd_body_kinematics, only: body_kinematics_t
@@ -246,7 +246,7 @@ contains
     end if
     ! a NaN velocity would reach the creep laws' comparisons (FP traps in Debug builds)
     if (.not. (all(finite(kin%v)) .and. all(finite(kin%omega)) .and. all(finite(kin%track%a)))) then
-      call make_error(error, RD_ERR_RUNTIME, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // rtoa(t) // &
+      call make_error(error, RD_ERR_RUNTIME, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // trim(sci_text(t, 5)) // &
                       ' s: non-finite wheelset velocity or track frame')
       return
     end if
@@ -285,7 +285,7 @@ contains
         end associate
         if (.not. all(finite(v_rail(:, side)))) then
           call make_error(error, RD_ERR_RUNTIME, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // &
-                          rtoa(t) // ' s: non-finite ' // side_name(side) // ' rail body velocity')
+                          trim(sci_text(t, 5)) // ' s: non-finite ' // side_name(side) // ' rail body velocity')
           return
         end if
       end do
@@ -297,7 +297,7 @@ contains
         call wheelset_contact(m%geo, pose(1), pose(2), pose(3), pose(4), geo_res(1), geo_res(2), error, &
                               rail_offset=reshape(pose(5:8), [2, 2]))
         if (allocated(error)) then
-          call error_context(error, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // rtoa(t) // ' s')
+          call error_context(error, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // trim(sci_text(t, 5)) // ' s')
           return
         end if
         m%cache_geo = geo_res
@@ -309,7 +309,7 @@ contains
         call check_wheel(m, side, geo_res(side), res%wheel(side), fw, mw, error)
         if (allocated(error)) then
           call error_context(error, 'wheelset contact ' // trim(int_text(i)) // ', ' // side_name(side) // &
-                             ' wheel, t = ' // rtoa(t) // ' s')
+                             ' wheel, t = ' // trim(sci_text(t, 5)) // ' s')
           return
         end if
         force = force + fw
@@ -462,21 +462,21 @@ contains
       do k = 1, wc%n_patches
         if (wc%patch(k)%s_wheel < m%s_flange_tip(side)) then
           call make_error(error, RD_ERR_PHYSICS, 'derailment: contact point at wheel coordinate s = ' // &
-                          rtoa(wc%patch(k)%s_wheel) // ' m, beyond the flange tip (s = ' // &
-                          rtoa(m%s_flange_tip(side)) // ' m)')
+                          trim(sci_text(wc%patch(k)%s_wheel, 5)) // ' m, beyond the flange tip (s = ' // &
+                          trim(sci_text(m%s_flange_tip(side), 5)) // ' m)')
           return
         end if
         ! the geometry clamps a rail line beyond the tread to the profile's end
         if (wc%patch(k)%s_wheel > m%s_field_end(side) - field_end_margin) then
           call make_error(error, RD_ERR_PHYSICS, 'derailment: the rail is beyond the field side of the tread '// &
-                          '(contact at wheel coordinate s = ' // rtoa(wc%patch(k)%s_wheel) // ' m)')
+                          '(contact at wheel coordinate s = ' // trim(sci_text(wc%patch(k)%s_wheel, 5)) // ' m)')
           return
         end if
       end do
     end if
     if (wc%max_penetration < -m%liftoff_limit) then
-      call make_error(error, RD_ERR_PHYSICS, 'wheel lift-off: gap ' // rtoa(-wc%max_penetration) // &
-                      ' m exceeds the limit ' // rtoa(m%liftoff_limit) // ' m')
+      call make_error(error, RD_ERR_PHYSICS, 'wheel lift-off: gap ' // trim(sci_text(-wc%max_penetration, 5)) // &
+                      ' m exceeds the limit ' // trim(sci_text(m%liftoff_limit, 5)) // ' m')
     end if
   end subroutine check_wheel
 
@@ -491,14 +491,6 @@ contains
   end function side_name
 
 
-  pure function rtoa(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=24) :: b
-    write (b, '(es12.5)') x
-    s = trim(adjustl(b))
-  end function rtoa
-
   !> NaN/Inf test without ieee_arithmetic in the hot path (see rd_hertz: finite).
   elemental logical function finite(x)
     real(wp), intent(in) :: x
@@ -508,5 +500,4 @@ contains
       finite = abs(x) <= huge(x)
     end if
   end function finite
-
 end module rd_wheelset_contact

@@ -8,8 +8,7 @@ module rd_wheelset_contact_spec
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL, validate_profile
-  use rd_profile_io, only: read_profile_file
-  use rd_profile_analytic, only: s1002_profile, rail_head_profile, RAIL_60E1, RAIL_54E1
+  use rd_profile_source, only: load_wheel_profile, load_rail_profile
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
   use rd_knife_edge_contact, only: knife_edge_t
   use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, init_knife_edge_contact, &
@@ -22,7 +21,6 @@ module rd_wheelset_contact_spec
   private
   public :: wheelset_contact_spec_t, load_contact_profiles, build_contact_geometry, build_hertz_params
   public :: build_creep_law, validate_wheelset_contact_spec, flange_tip_coordinate, field_end_coordinate
-  public :: load_named_profile
   public :: SIDE_LEFT, SIDE_RIGHT, CONTACT_MODEL_NAMES
 
   character(len=*), parameter :: CONTACT_MODEL_NAMES = '''profile'' or ''knife_edge'''
@@ -135,7 +133,7 @@ contains
     else if (.not. allocated(spec%wheel_profile)) then
       call make_error(error, RD_ERR_INPUT, 'no wheel profile given; expected a file path or ''s1002''')
     else
-      call load_named_profile(spec%wheel_profile, PROFILE_WHEEL, wheel, error)
+      call load_wheel_profile(spec%wheel_profile, wheel, error, analytic_spacing)
     end if
     if (allocated(error)) then
       call error_context(error, 'load_contact_profiles')
@@ -149,27 +147,10 @@ contains
     else if (.not. allocated(spec%rail_profile)) then
       call make_error(error, RD_ERR_INPUT, 'no rail profile given; expected a file path, ''60e1'' or ''54e1''')
     else
-      call load_named_profile(spec%rail_profile, PROFILE_RAIL, rail, error)
+      call load_rail_profile(spec%rail_profile, rail, error, analytic_spacing)
     end if
     if (allocated(error)) call error_context(error, 'load_contact_profiles')
   end subroutine load_contact_profiles
-
-  !> A profile by analytic keyword ('s1002' wheel; '60e1' / 'uic60', '54e1' rails) or file.
-  subroutine load_named_profile(name, kind, profile, error)
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: kind
-    type(profile_t), intent(out) :: profile
-    type(error_t), allocatable, intent(out) :: error
-    if (kind == PROFILE_WHEEL .and. lower(name) == 's1002') then
-      call s1002_profile(profile, analytic_spacing, error)
-    else if (kind == PROFILE_RAIL .and. (lower(name) == '60e1' .or. lower(name) == 'uic60')) then
-      call rail_head_profile(RAIL_60E1, profile, analytic_spacing, error)
-    else if (kind == PROFILE_RAIL .and. lower(name) == '54e1') then
-      call rail_head_profile(RAIL_54E1, profile, analytic_spacing, error)
-    else
-      call read_profile_file(name, kind, profile, error)
-    end if
-  end subroutine load_named_profile
 
   !> The contact geometry of the spec's model (profiles loaded when the model needs them).
   subroutine build_contact_geometry(spec, geo, error)
@@ -205,11 +186,11 @@ contains
       if (spec%rail_precant_right >= 0) precant_right = spec%rail_precant_right
       ! right profiles only when named; init_strip_contact shares surfaces equal to the left ones
       if (allocated(spec%wheel_profile_right)) then
-        call load_named_profile(spec%wheel_profile_right, PROFILE_WHEEL, wheel_right, error)
+        call load_wheel_profile(spec%wheel_profile_right, wheel_right, error, analytic_spacing)
         if (allocated(error)) call error_context(error, 'right wheel profile')
       end if
       if (allocated(spec%rail_profile_right) .and. .not. allocated(error)) then
-        call load_named_profile(spec%rail_profile_right, PROFILE_RAIL, rail_right, error)
+        call load_rail_profile(spec%rail_profile_right, rail_right, error, analytic_spacing)
         if (allocated(error)) call error_context(error, 'right rail profile')
       end if
       if (allocated(error)) then
@@ -287,15 +268,5 @@ contains
     end if
   end function field_end_coordinate
 
-  pure function lower(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=len_trim(adjustl(s))) :: t
-    integer :: i, c
-    t = trim(adjustl(s))
-    do i = 1, len(t)
-      c = iachar(t(i:i))
-      if (c >= iachar('A') .and. c <= iachar('Z')) t(i:i) = achar(c + 32)
-    end do
-  end function lower
 
 end module rd_wheelset_contact_spec

@@ -8,6 +8,7 @@
 !> number if it matches  [sign] digits [. [digits]] [(e|d) [sign] digits]
 !> (or  [sign] . digits [exponent]).
 module rd_deck_text
+  use rd_text, only: int_text, to_lower => lower_case
   use rd_kinds, only: wp
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -45,23 +46,10 @@ contains
     list(1)%s = s
   end function single_string
 
-  pure function to_lower(text) result(low)
-    character(len=*), intent(in) :: text
-    character(len=len(text)) :: low
-    integer :: i, c
-    low = text
-    do i = 1, len(text)
-      c = iachar(text(i:i))
-      if (c >= iachar('A') .and. c <= iachar('Z')) low(i:i) = achar(c + 32)
-    end do
-  end function to_lower
-
   pure function int_to_str(i) result(s)
     integer, intent(in) :: i
     character(len=:), allocatable :: s
-    character(len=24) :: buf
-    write (buf, '(i0)') i
-    s = trim(buf)
+    s = trim(int_text(i))
   end function int_to_str
 
   !> Shortest decimal text that reads back to exactly x (plain notation for

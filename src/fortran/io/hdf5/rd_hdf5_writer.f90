@@ -34,7 +34,7 @@ module rd_hdf5_writer
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_value, ieee_quiet_nan
   use hdf5
   use rd_kinds, only: wp, i8
-  use rd_text, only: int_text
+  use rd_text, only: int_text, sci_text
   use rd_error, only: error_t, make_error, error_context, RD_ERR_IO, RD_ERR_INPUT, &
                       RD_ERR_HANDLE
   implicit none
@@ -498,14 +498,14 @@ contains
     end if
     if (nrows > 0 .and. .not. (time > self%last_time)) then
       call make_error(error, RD_ERR_INPUT, 'h5_writer%end_step: time must increase (got ' // &
-                      real_str(time) // ' s after ' // real_str(self%last_time) // ' s) in "' // &
+                      trim(sci_text(time, 9)) // ' s after ' // trim(sci_text(self%last_time, 9)) // ' s) in "' // &
                       self%filename // '"')
       return
     end if
     do k = 1, self%nseries
       if (.not. self%series(k)%is_set) then
         call make_error(error, RD_ERR_INPUT, 'h5_writer%end_step: series "' // &
-                        self%series(k)%path // '" was not set at t = ' // real_str(time) // &
+                        self%series(k)%path // '" was not set at t = ' // trim(sci_text(time, 9)) // &
                         ' s in "' // self%filename // '"')
         return
       end if
@@ -1001,14 +1001,6 @@ contains
 
 
 
-  pure function real_str(value) result(text)
-    real(wp), intent(in) :: value
-    character(len=:), allocatable :: text
-    character(len=32) :: buffer
-    write (buffer, '(es16.9)') value
-    text = trim(adjustl(buffer))
-  end function real_str
-
   !> Creation time as ISO 8601 with the local offset, e.g. 2026-11-21T06:08:51+00:00.
   function iso_timestamp() result(text)
     character(len=:), allocatable :: text
@@ -1019,5 +1011,4 @@ contains
     text = date(1:4) // '-' // date(5:6) // '-' // date(7:8) // 'T' // time(1:2) // ':' // &
            time(3:4) // ':' // time(5:6) // zone(1:3) // ':' // zone(4:5)
   end function iso_timestamp
-
 end module rd_hdf5_writer
