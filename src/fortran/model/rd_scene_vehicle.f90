@@ -302,16 +302,20 @@ contains
   !> bodies other than the wheelset, each other and any wheelset, in a track frame at the
   !> wheelset's frame offset (the contact adds their (y, z) to the rail offsets of the
   !> wheelset's frame), with x, yaw, roll and pitch frozen (the contact applies a force at
-  !> their CG only; docs/theory_track_flexibility.md).
+  !> their CG only; docs/theory_track_flexibility.md), and each under one wheel only (the
+  !> co-moving model: a rail mass travels with its wheel, so two wheelsets on one rail body
+  !> would load one mass at two places that the model puts at the same point).
   subroutine check_rail_bodies(deck, bodies, frame_offsets, error)
     type(deck_t), intent(in) :: deck
     type(body_spec_t), intent(in) :: bodies(:)
     real(wp), intent(in) :: frame_offsets(:)
     type(error_t), allocatable, intent(out) :: error
     character(len=*), parameter :: keys(2) = [character(len=15) :: 'left_rail_body', 'right_rail_body']
-    character(len=:), allocatable :: name, ws_name, origin_text
+    character(len=:), allocatable :: name, ws_name, origin_text, other
     integer :: j, side, ws, rb, rails(2)
+    integer :: owner(size(bodies))   ! &wheelset group that uses the body as a rail, 0: none
     real(wp) :: d_rail, d_ws
+    owner = 0
     do j = 1, deck%count('wheelset')
       call deck%get('wheelset', j, 'body', ws_name, error); if (allocated(error)) return
       ws = body_index(deck, ws_name)
@@ -357,6 +361,14 @@ contains
                           "and vertically only)")
           return
         end if
+        if (owner(rb) > 0) then
+          call deck%get('wheelset', owner(rb), 'name', other, error); if (allocated(error)) return
+          call make_error(error, RD_ERR_INPUT, origin_text // ": the rail body '" // name // &
+                          "' is already under &wheelset '" // other // "'; expected its own rail body for " // &
+                          "each wheel (the co-moving rail mass travels with one wheel)")
+          return
+        end if
+        owner(rb) = j
         rails(side) = rb
       end do
     end do

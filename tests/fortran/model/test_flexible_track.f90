@@ -235,6 +235,12 @@ contains
                               "frozen = 'x', 'yaw', 'roll', 'pitch'", &
                               "'rr', mass = 150.0, ixx = 10.0, iyy = 10.0, izz = 10.0, frame = 'ws', frozen = 'x'"), &
                       'rotations not frozen', ['right_rail_body', 'frozen         '])
+    call expect_error(deck('preload', 0.0_wp, &
+                           "&body name = 'ws2', mass = 1800.0, ixx = 1000.0, iyy = 100.0, izz = 1000.0, " // &
+                           "frame = 'ws', position = 2.5, 0.0, 0.46 /" // nl // &
+                           "&wheelset name = 'w2', body = 'ws2', contact = 'knife_edge', nominal_radius = 0.46, " // &
+                           "contact_distance = 1.5, creep_law = 'linear', left_rail_body = 'rl' /" // nl), &
+                      'rail body under two wheelsets', ['left_rail_body', 'already under ', "'w1'          "])
   end subroutine test_deck_errors
 
   subroutine expect_error(text, label, words)
