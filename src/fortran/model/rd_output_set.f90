@@ -26,6 +26,7 @@ module rd_output_set
     procedure :: add => output_set_add
     procedure :: find => output_set_find
     procedure :: clear => output_set_clear
+    procedure :: packed => output_set_packed
   end type output_set_t
 
 contains
@@ -70,6 +71,24 @@ contains
     call make_error(error, RD_ERR_INPUT, "no output channel named '" // name // &
                     "' (rd_output_count/rd_output_name list them; see docs/output.md)")
   end subroutine output_set_find
+
+  !> Every channel's values in one vector, channel after channel in registration order.
+  function output_set_packed(self) result(flat)
+    class(output_set_t), intent(in) :: self
+    real(wp), allocatable :: flat(:)
+    integer :: i, k, n
+    n = 0
+    do i = 1, self%n
+      n = n + size(self%channels(i)%values)
+    end do
+    allocate (flat(n))
+    k = 0
+    do i = 1, self%n
+      n = size(self%channels(i)%values)
+      flat(k + 1:k + n) = self%channels(i)%values
+      k = k + n
+    end do
+  end function output_set_packed
 
   subroutine output_set_clear(self)
     class(output_set_t), intent(inout) :: self

@@ -17,6 +17,7 @@ module rd_scene
   use rd_speed_law, only: speed_law_t, constant_speed, table_speed
   use rd_hdf5_writer, only: h5_writer_t
   use rd_output_set, only: output_set_t
+  use rd_output_average, only: output_average_t
   use rd_text, only: int_text, real_text
   use rd_scene_track, only: build_scene_track, build_scene_irregularity
   use rd_track_irregularity, only: track_irregularity_t
@@ -76,6 +77,8 @@ module rd_scene
     real(wp) :: interval = 0
     real(wp) :: start_sigma = 0
     integer(i8) :: output_steps = 0      !< output steps written; next one at output_steps*interval
+    integer :: mean_samples = 0          !< &output mean_samples: 0 = records are samples
+    type(output_average_t) :: average    !< interval means (mean_samples > 0)
     real(wp), allocatable :: frame_offsets(:)   !< track frames at sigma_vehicle + offset
     type(output_set_t) :: outputs
     type(h5_writer_t) :: writer
@@ -112,6 +115,8 @@ module rd_scene
     procedure, private :: start_mechanics
     procedure, private :: refresh_outputs
     procedure, private :: write_step
+    procedure, private :: write_record
+    procedure, private :: check_values
     procedure, private :: register_outputs
     procedure, private :: mbs_element_count
   end type scene_t
@@ -161,6 +166,8 @@ contains
     call self%deck%get('simulation', 1, 'start_sigma', self%start_sigma, error)
     if (allocated(error)) return
     call self%deck%get('output', 1, 'interval', self%interval, error)
+    if (allocated(error)) return
+    call self%deck%get('output', 1, 'mean_samples', self%mean_samples, error)
     if (allocated(error)) return
 
     if (self%deck%given('simulation', 1, 'speed_times')) then
@@ -359,6 +366,7 @@ contains
       call self%writer%set_attribute('/', 'raildyn_version', raildyn_version, error)
       if (.not. allocated(error)) call self%writer%set_attribute('/', 'title', title, error)
       if (.not. allocated(error)) call self%writer%set_attribute('/', 'deck_file', self%deck%file_name(), error)
+      if (.not. allocated(error)) call self%writer%set_attribute('/', 'output_mean_samples', self%mean_samples, error)
       if (allocated(error)) return
       allocate (self%series(self%outputs%n))
       do i = 1, self%outputs%n
@@ -371,6 +379,8 @@ contains
     end if
     self%initialized = .true.
     call self%write_step(error)
+    if (allocated(error)) return
+    if (self%mean_samples > 0) call self%average%start(self%mean_samples, self%outputs%packed())
   end subroutine scene_initialize
 
   !> Advance to t_target, writing every output step passed on the way.
@@ -379,6 +389,7 @@ contains
     real(wp), intent(in) :: t_target
     type(error_t), allocatable, intent(out) :: error
     real(wp) :: t_out
+    real(wp), allocatable :: sample(:)
     if (.not. self%initialized) then
       call make_error(error, RD_ERR_HANDLE, 'scene: advance before initialize')
       return
@@ -388,12 +399,31 @@ contains
       return
     end if
     do
-      t_out = real(self%output_steps, wp) * self%interval
-      if (t_out > t_target + 1e-9_wp * self%interval) exit
-      call integrate_to(t_out)
-      if (allocated(error)) return
-      call self%write_step(error)
-      if (allocated(error)) return
+      if (self%mean_samples == 0) then
+        t_out = real(self%output_steps, wp) * self%interval
+        if (t_out > t_target + 1e-9_wp * self%interval) exit
+        call integrate_to(t_out)
+        if (allocated(error)) return
+        call self%write_step(error)
+        if (allocated(error)) return
+      else
+        ! interval means (rd_output_average): sub-samples on a fixed grid of interval / N,
+        ! so that advancing in pieces (C API) gives the same records
+        t_out = (real(self%output_steps - 1, wp) + self%average%next_fraction()) * self%interval
+        if (t_out > t_target + 1e-9_wp * self%interval / self%mean_samples) exit
+        call integrate_to(t_out)
+        if (allocated(error)) return
+        call self%refresh_outputs()
+        sample = self%outputs%packed()
+        ! a non-finite sub-sample stops the run at its own time (its mean would hide when)
+        call self%check_values(sample, error)
+        if (allocated(error)) return
+        call self%average%add(sample)
+        if (self%average%complete()) then
+          call self%write_record(self%average%take_mean(), error)
+          if (allocated(error)) return
+        end if
+      end if
     end do
     call integrate_to(t_target)
   contains
@@ -413,26 +443,54 @@ contains
     end subroutine integrate_to
   end subroutine scene_advance
 
+  !> Record the state at the current time.
   subroutine write_step(self, error)
     class(scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: error
-    integer :: i
     call self%refresh_outputs()
+    call self%write_record(self%outputs%packed(), error)
+  end subroutine write_step
+
+  !> Write one record at the current time: the channels' values packed as
+  !> rd_output_set%packed (the state, or an interval mean).
+  subroutine write_record(self, values, error)
+    class(scene_t), intent(inout) :: self
+    real(wp), intent(in) :: values(:)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: i, k, n
     if (self%writing) then
+      call self%check_values(values, error)
+      if (allocated(error)) return
+      k = 0
       do i = 1, self%outputs%n
-        if (.not. all(ieee_is_finite(self%outputs%channels(i)%values))) then
-          call make_error(error, RD_ERR_RUNTIME, 'non-finite value in output ' // &
-                          self%outputs%channels(i)%name // ' at t = ' // trim(real_text(self%t)))
-          return
-        end if
-        call self%writer%set(self%series(i), self%outputs%channels(i)%values, error)
+        n = size(self%outputs%channels(i)%values)
+        call self%writer%set(self%series(i), values(k + 1:k + n), error)
         if (allocated(error)) return
+        k = k + n
       end do
       call self%writer%end_step(self%t, error)
       if (allocated(error)) return
     end if
     self%output_steps = self%output_steps + 1
-  end subroutine write_step
+  end subroutine write_record
+
+  !> Error naming the first channel of the packed values that holds a non-finite number.
+  subroutine check_values(self, values, error)
+    class(scene_t), intent(in) :: self
+    real(wp), intent(in) :: values(:)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: i, k, n
+    k = 0
+    do i = 1, self%outputs%n
+      n = size(self%outputs%channels(i)%values)
+      if (.not. all(ieee_is_finite(values(k + 1:k + n)))) then
+        call make_error(error, RD_ERR_RUNTIME, 'non-finite value in output ' // &
+                        self%outputs%channels(i)%name // ' at t = ' // trim(real_text(self%t)))
+        return
+      end if
+      k = k + n
+    end do
+  end subroutine check_values
 
   pure function scene_vehicle_sigma(self, t) result(sigma)
     class(scene_t), intent(in) :: self

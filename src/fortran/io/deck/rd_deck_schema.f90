@@ -290,6 +290,10 @@ contains
     call add_group(s, 'output', .false., 'results file and output rate', [ &
       p, &
       preal('interval', 's', 'output interval', default=0.01_wp, min=zero, min_open=.true.), &
+      pint('mean_samples', '-', 'records as interval means: 0 = the state at each output time; ' // &
+           'N >= 1 = each record after the first is the mean over the preceding interval ' // &
+           '(trapezoid rule on N sub-intervals: anti-aliasing of motions faster than the output rate)', &
+           0, min=0, max=10000), &
       pint('flush_every', '-', 'output steps between flushes of the file', 50, min=1), &
       pstr('progress', 'progress line on the terminal', default='auto', allowed='auto|on|off')])
 
