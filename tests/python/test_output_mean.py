@@ -1,6 +1,6 @@
 """Interval-mean records (`&output mean_samples`): against the closed-form mean of an undamped
-oscillator, against the trapezoid rule applied by the test to a dense run, and the same records
-when the C API advances in uneven pieces."""
+oscillator, against the trapezoid rule applied by the test to a dense run, no extra integrator
+steps, and the same records when the C API advances in uneven pieces."""
 import os
 import subprocess
 from pathlib import Path
@@ -21,7 +21,7 @@ OMEGA = np.sqrt(STIFFNESS / MASS)
 #: fraction of the amplitude (global error of ~1e3 steps).
 INTEGRATION_AGREEMENT = 1e-7
 DECK = """&simulation title = 'oscillator', t_end = 1.0, speed = 0.0, equilibrium = 'none' /
-&solver method = 'bdf', rtol = 1e-10, atol = 1e-13 /
+&solver method = 'bdf', rtol = 1e-10, atol = 1e-13, initial_step = 1e-4 /
 &output file = '{file}', interval = {interval}, mean_samples = {samples} /
 &segment type = 'straight', length = 100.0 /
 &body name = 'b', mass = {mass}, ixx = 1.0, iyy = 1.0, izz = 1.0, position = 0.0, 0.0, 0.5,
@@ -85,6 +85,19 @@ def test_records_equal_the_trapezoid_means_of_a_dense_run(raildyn_exe, tmp_path)
     # (tstop), so the two step sequences differ and agree to the global integration error:
     # rtol = 1e-10 per step, 1e-7 of the amplitude allows 1e3 steps of accumulation
     assert np.max(np.abs(y[1:] - means)) < INTEGRATION_AGREEMENT * V0 / OMEGA
+
+
+def test_sub_samples_cost_no_integrator_steps(raildyn_exe, tmp_path):
+    """The integrator stops at the record times only and interpolates the sub-samples, so a
+    run with means takes exactly the steps of the same run writing samples (given the first
+    step: CVODE estimates it from the first target time, a sub-sample or a record)."""
+    stats = []
+    for name, samples in (("samples", 0), ("means", 20)):
+        path = run(raildyn_exe, write_deck(tmp_path, name, 0.05, samples))
+        with h5py.File(path) as f:
+            stats.append({k: int(f["meta/solver"].attrs[k]) for k in ("n_steps", "n_rhs")})
+    assert stats[0] == stats[1]
+    assert stats[0]["n_steps"] > 100
 
 
 def test_uneven_advances_give_the_same_records(raildyn_exe, tmp_path):

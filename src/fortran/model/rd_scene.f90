@@ -408,10 +408,12 @@ contains
         if (allocated(error)) return
       else
         ! interval means (rd_output_average): sub-samples on a fixed grid of interval / N,
-        ! so that advancing in pieces (C API) gives the same records
+        ! so that advancing in pieces (C API) gives the same records. The integrator stops
+        ! only at the record time (or the target, where inputs may change) and interpolates
+        ! the sub-samples: they add no steps and leave the step sequence as without means.
         t_out = (real(self%output_steps - 1, wp) + self%average%next_fraction()) * self%interval
         if (t_out > t_target + 1e-9_wp * self%interval / self%mean_samples) exit
-        call integrate_to(t_out)
+        call integrate_to(t_out, min(real(self%output_steps, wp) * self%interval, max(t_target, t_out)))
         if (allocated(error)) return
         call self%refresh_outputs()
         sample = self%outputs%packed()
@@ -427,12 +429,15 @@ contains
     end do
     call integrate_to(t_target)
   contains
-    subroutine integrate_to(t_stop)
+    !> To t_stop; the integrator may step on to t_limit (>= t_stop, default t_stop) and
+    !> interpolate (rd_integrator advance).
+    subroutine integrate_to(t_stop, t_limit)
       real(wp), intent(in) :: t_stop
+      real(wp), intent(in), optional :: t_limit
       ! A track-only scene is kinematic: the vehicle position is an exact function of time.
       if (t_stop <= self%t) return
       if (associated(self%integrator)) then
-        call self%integrator%advance(t_stop, self%y, error)
+        call self%integrator%advance(t_stop, self%y, error, t_limit)
         if (allocated(error)) then
           self%t = self%integrator%time()
           call error_context(error, 'scene')

@@ -192,13 +192,19 @@ contains
   !> size, the SUNDIALS flag and message, and the RHS's own message if it failed; y then
   !> holds the last valid state (at time()), never a non-finite one, and the integrator
   !> refuses to advance until `reinit` is called.
-  subroutine advance(self, t_out, y, error)
+  !> t_stop (>= t_out, default t_out): the adaptive methods may step as far as t_stop and
+  !> return their interpolant at t_out, so that samples between two stops cost no steps and
+  !> do not change the step sequence (rd_scene's interval means). Nothing that the RHS
+  !> depends on may change before t_stop (inputs set between advances need t_stop = t_out).
+  !> The fixed-step methods land on t_out whatever t_stop is.
+  subroutine advance(self, t_out, y, error, t_stop)
     class(integrator_t), intent(inout) :: self
     real(wp), intent(in) :: t_out
     real(wp), intent(inout) :: y(:)
     type(error_t), allocatable, intent(out) :: error
+    real(wp), intent(in), optional :: t_stop
 
-    real(c_double) :: t_reached
+    real(c_double) :: t_reached, t_limit
     integer(c_int) :: flag, valid
     integer :: bad
     real(wp) :: y_before(self%n)
@@ -222,6 +228,15 @@ contains
                       ' s is not a finite time >= the current time ' // trim(sci_text(self%t, 8)) // ' s')
       return
     end if
+    t_limit = t_out
+    if (present(t_stop)) then
+      if (.not. (t_stop >= t_out)) then
+        call make_error(error, RD_ERR_INPUT, 'advance: t_stop = ' // trim(sci_text(t_stop, 8)) // &
+                        ' s is not a time >= t_out = ' // trim(sci_text(t_out, 8)) // ' s')
+        return
+      end if
+      t_limit = t_stop
+    end if
     ! An interval below the time resolution: nothing to integrate (SUNDIALS would refuse
     ! it as CV_TOO_CLOSE).
     if (t_out - self%t <= 4.0_wp * epsilon(1.0_wp) * max(abs(self%t), abs(t_out))) then
@@ -241,7 +256,7 @@ contains
       end if
     case default
       y_before = self%y
-      flag = rd_glue_advance(self%glue, t_out, self%y, t_reached, valid)
+      flag = rd_glue_advance(self%glue, t_out, t_limit, self%y, t_reached, valid)
       if (flag < 0) then
         ! Return the state at the last time SUNDIALS reached if it is known and finite,
         ! else keep the state of the previous output.

@@ -58,11 +58,11 @@ module rd_sundials_glue
       integer(c_int) :: flag
     end function rd_glue_use_jacobian
 
-    function rd_glue_advance(handle, tout, y_out, t_reached, valid) result(flag) &
+    function rd_glue_advance(handle, tout, tstop, y_out, t_reached, valid) result(flag) &
         bind(C, name='rd_glue_advance')
       import :: c_ptr, c_double, c_int
       type(c_ptr), value :: handle
-      real(c_double), value :: tout
+      real(c_double), value :: tout, tstop
       real(c_double), intent(inout) :: y_out(*)   ! unchanged when valid = 0
       real(c_double), intent(out) :: t_reached
       integer(c_int), intent(out) :: valid

@@ -382,18 +382,22 @@ int rd_glue_use_jacobian(void *handle) {
   return flag;
 }
 
-/* Integrate to exactly tout (tstop = tout, never stepping past it). On success y_out
- * gets the solution at *t_reached = tout. On failure *t_reached is the last time the
- * integrator reached and y_out its solution there (interpolated from the method's own
- * history, order 0 = the accepted state), or *valid = 0 if that is not available. */
-int rd_glue_advance(void *handle, double tout, double *y_out, double *t_reached, int *valid) {
+/* Integrate to tout, never stepping past tstop (>= tout; tstop = tout: land exactly on
+ * tout). With tstop > tout the method takes its own steps (as far as tstop at most) and
+ * y_out is its interpolant at tout: intermediate samples that cost no extra steps. On
+ * success y_out gets the solution at *t_reached = tout. On failure *t_reached is the last
+ * time the integrator reached and y_out its solution there (interpolated from the
+ * method's own history, order 0 = the accepted state), or *valid = 0 if that is not
+ * available. */
+int rd_glue_advance(void *handle, double tout, double tstop, double *y_out, double *t_reached,
+                    int *valid) {
   rd_glue_t *g = (rd_glue_t *)handle;
   sunrealtype tret = 0.0, tcur = 0.0;
   int flag;
   g->msg[0] = '\0';
   *valid = 1;
   if (g->method == RD_GLUE_ERK) {
-    flag = ERKStepSetStopTime(g->mem, tout);
+    flag = ERKStepSetStopTime(g->mem, tstop);
     if (flag == 0) flag = ERKStepEvolve(g->mem, tout, g->y, &tret, ARK_NORMAL);
     if (flag == ARK_TSTOP_RETURN) flag = ARK_SUCCESS;
     if (flag < 0) {
@@ -411,7 +415,7 @@ int rd_glue_advance(void *handle, double tout, double *y_out, double *t_reached,
       if (*valid) tret = tcur;
     }
   } else {
-    flag = CVodeSetStopTime(g->mem, tout);
+    flag = CVodeSetStopTime(g->mem, tstop);
     if (flag == 0) flag = CVode(g->mem, tout, g->y, &tret, CV_NORMAL);
     if (flag == CV_TSTOP_RETURN) flag = CV_SUCCESS;
     if (flag < 0) {
