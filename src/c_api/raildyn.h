@@ -55,7 +55,8 @@ int rd_get_time(rd_handle handle, double *time);
 int rd_get_state_size(rd_handle handle, int *size);
 int rd_get_state(rd_handle handle, double *state, int size);
 
-/* Named outputs at the current time: count, names, sizes, values. */
+/* Named outputs at the current time: count, names, sizes, values (the state at that time,
+ * also when the results file holds interval means, &output mean_samples). */
 int rd_output_count(rd_handle handle, int *count);
 int rd_output_name(rd_handle handle, int index /* 1-based */, char *name, int name_len);
 int rd_output_size(rd_handle handle, const char *name, int *size);
