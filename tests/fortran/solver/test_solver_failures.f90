@@ -224,6 +224,8 @@ contains
     call check(.not. allocated(error), 'valid advance')
     call integ%advance(0.5_wp, y, error)
     call expect(error, RD_ERR_INPUT, [character(len=40) :: 't_out'], 'advance backwards')
+    call integ%advance(2.0_wp, y, error, t_stop=1.5_wp)
+    call expect(error, RD_ERR_INPUT, [character(len=40) :: 't_stop', 't_out'], 'stop time before t_out')
     ! advancing to the current time is a no-op returning the current state
     call integ%advance(1.0_wp, y, error)
     call check(.not. allocated(error), 'advance to the current time')
