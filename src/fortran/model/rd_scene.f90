@@ -79,6 +79,12 @@ module rd_scene
     integer(i8) :: output_steps = 0      !< output steps written; next one at output_steps*interval
     integer :: mean_samples = 0          !< &output mean_samples: 0 = records are samples
     type(output_average_t) :: average    !< interval means (mean_samples > 0)
+    !> Contact statistics over the output samples (records and sub-samples) for the run's
+    !> summary: samples taken, samples without contact per wheel (side, wheelset), largest
+    !> sampled vertical wheel force [N].
+    integer(i8) :: contact_samples = 0
+    integer(i8), allocatable :: samples_without_contact(:, :)
+    real(wp), allocatable :: max_sampled_q(:, :)
     real(wp), allocatable :: frame_offsets(:)   !< track frames at sigma_vehicle + offset
     type(output_set_t) :: outputs
     type(h5_writer_t) :: writer
@@ -117,6 +123,7 @@ module rd_scene
     procedure, private :: write_step
     procedure, private :: write_record
     procedure, private :: check_values
+    procedure, private :: note_contact
     procedure, private :: register_outputs
     procedure, private :: mbs_element_count
   end type scene_t
@@ -416,6 +423,7 @@ contains
         call integrate_to(t_out, min(real(self%output_steps, wp) * self%interval, max(t_target, t_out)))
         if (allocated(error)) return
         call self%refresh_outputs()
+        call self%note_contact()
         sample = self%outputs%packed()
         ! a non-finite sub-sample stops the run at its own time (its mean would hide when)
         call self%check_values(sample, error)
@@ -453,6 +461,7 @@ contains
     class(scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: error
     call self%refresh_outputs()
+    call self%note_contact()
     call self%write_record(self%outputs%packed(), error)
   end subroutine write_step
 
@@ -478,6 +487,29 @@ contains
     end if
     self%output_steps = self%output_steps + 1
   end subroutine write_record
+
+  !> Count the sample just refreshed into the contact statistics (wheels without any
+  !> contact patch, largest vertical wheel force).
+  subroutine note_contact(self)
+    class(scene_t), intent(inout) :: self
+    integer :: w, side
+    if (.not. associated(self%contact)) return
+    if (.not. allocated(self%samples_without_contact)) then
+      allocate (self%samples_without_contact(2, size(self%wheelset_names)), &
+                self%max_sampled_q(2, size(self%wheelset_names)))
+      self%samples_without_contact = 0
+      self%max_sampled_q = 0
+    end if
+    self%contact_samples = self%contact_samples + 1
+    do w = 1, size(self%wheelset_names)
+      do side = 1, 2
+        associate (wheel => self%contact%results(w)%wheel(side))
+          if (wheel%n_patches == 0) self%samples_without_contact(side, w) = self%samples_without_contact(side, w) + 1
+          self%max_sampled_q(side, w) = max(self%max_sampled_q(side, w), wheel%force_track(3))
+        end associate
+      end do
+    end do
+  end subroutine note_contact
 
   !> Error naming the first channel of the packed values that holds a non-finite number.
   subroutine check_values(self, values, error)
@@ -995,8 +1027,25 @@ contains
   function scene_completion_summary(self) result(text)
     class(scene_t), intent(in) :: self
     character(len=:), allocatable :: text
+    integer :: w, side
+    character(len=16) :: pct, qmax
     text = 'completed t = ' // trim(real_text(self%t)) // ' s, ' // trim(int_text(int(self%output_steps))) // &
            ' output steps'
+    ! Wheels that lost contact: a user must know that the results contain flights and impacts
+    ! (flange bouncing, lift-off) before reading means off them.
+    if (.not. allocated(self%samples_without_contact)) return
+    do w = 1, size(self%wheelset_names)
+      do side = 1, 2
+        if (self%samples_without_contact(side, w) == 0) cycle
+        write (pct, '(f0.1)') 100.0_wp * real(self%samples_without_contact(side, w), wp) / &
+                              real(self%contact_samples, wp)
+        write (qmax, '(f0.1)') 1.0e-3_wp * self%max_sampled_q(side, w)
+        text = text // new_line('a') // 'note: wheelset ' // trim(self%wheelset_names(w)) // ' ' // &
+               trim(merge('left ', 'right', side == 1)) // ' wheel without contact in ' // trim(pct) // &
+               ' % of ' // trim(int_text(int(self%contact_samples))) // ' output samples (largest sampled Q ' // &
+               trim(qmax) // ' kN)'
+      end do
+    end do
   end function scene_completion_summary
 
   !> The deck's path with its extension replaced by `suffix` (e.g. '_track.h5').

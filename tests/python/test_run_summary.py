@@ -1,0 +1,70 @@
+"""The runner's completion summary names wheels that lost contact: a wheelset dropped onto the
+rails is in flight for t_f = sqrt(2 h / g) (closed form), so exactly the output samples before
+t_f are without contact; a wheelset that never leaves the rails gets no note."""
+import math
+import os
+import re
+import subprocess
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+G = 9.80665            # standard gravity of the model (docs/conventions.md)
+R0 = 0.45              # nominal radius: knife-edge contact when the centre is R0 above the rail
+
+DECK = """&simulation title = 'drop', t_end = {t_end}, speed = 0.0, equilibrium = 'none' /
+&solver method = 'bdf', rtol = 1e-8, atol = 1e-12, max_step = 1e-5 /
+&output interval = {interval} /
+&segment type = 'straight', length = 100.0 /
+&body name = 'ws1', mass = 1500.0, ixx = 799.35, iyy = 93.75, izz = 799.35,
+      position = 0.0, 0.0, {z0!r}, frozen = 'x', 'y', 'yaw', 'roll' /
+&wheelset name = 'w1', body = 'ws1', contact = 'knife_edge', nominal_radius = {r0},
+      contact_distance = 1.5, conicity = 0.05, creep_law = 'linear',
+      friction = 0.3, shear_modulus = 8.4e10, poisson = 0.25 {extra} /
+"""
+
+
+@pytest.fixture(scope="module")
+def raildyn_exe():
+    exe = Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build")) / "bin" / "raildyn"
+    if not exe.exists():
+        pytest.fail(f"raildyn executable not built: {exe}")
+    return exe
+
+
+def run(exe, tmp_path, **kw):
+    deck = tmp_path / "drop.nml"
+    deck.write_text(DECK.format(r0=R0, extra="", **kw))
+    res = subprocess.run([exe, "run", deck, "-o", tmp_path / "drop.h5"], capture_output=True,
+                         text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    return res.stdout
+
+
+def test_dropped_wheelset_is_reported_without_contact_until_it_lands(raildyn_exe, tmp_path):
+    t_flight, interval, t_end = 9.95e-3, 1e-4, 10.5e-3    # lands between two samples
+    out = run(raildyn_exe, tmp_path, t_end=t_end, interval=interval,
+              z0=R0 + 0.5 * G * t_flight ** 2)
+    n = round(t_end / interval) + 1
+    expected = 100.0 * sum(1 for k in range(n) if k * interval < t_flight) / n
+    for side in ("left", "right"):
+        m = re.search(rf"note: wheelset w1 {side} wheel without contact in ([0-9.]+) % of (\d+) "
+                      r"output samples \(largest sampled Q ([0-9.]+) kN\)", out)
+        assert m, out
+        assert int(m.group(2)) == n
+        assert float(m.group(1)) == pytest.approx(expected, abs=0.05)
+        assert float(m.group(3)) > 0        # it has landed by the last sample
+
+
+def test_no_note_while_the_wheels_stay_on_the_rails(raildyn_exe, tmp_path):
+    out = run(raildyn_exe, tmp_path, t_end=2e-3, interval=1e-4, z0=R0 + 1e-3)
+    assert "without contact in 100.0 % of 21 output samples" in out   # in flight all along
+    # on the rails: started 10 um into them, less than its static approach under its weight
+    # (about 17 um), it oscillates between 10 and 25 um without leaving them: no note at all
+    deck = tmp_path / "rest.nml"
+    deck.write_text(DECK.format(r0=R0, t_end=0.05, interval=1e-3, z0=R0 - 1.0e-5, extra=""))
+    res = subprocess.run([raildyn_exe, "run", deck, "-o", tmp_path / "rest.h5"], capture_output=True,
+                         text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    assert "completed" in res.stdout and "note:" not in res.stdout, res.stdout
