@@ -19,6 +19,15 @@ def build_dir() -> Path:
     return Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build"))
 
 
+@pytest.fixture(scope="session")
+def raildyn_exe(build_dir) -> Path:
+    """The runner of the build tree (a test that needs it fails if it was not built)."""
+    exe = build_dir / "bin" / "raildyn"
+    if not exe.exists():
+        pytest.fail(f"raildyn executable not built: {exe}")
+    return exe
+
+
 def write_layout_file(path, time, series, root_attrs=None, meta_attrs=None, solver=None,
                       deck_text=None):
     """Write a results file by hand following docs/output.md.

@@ -7,7 +7,6 @@ within 4 standard errors of the mean over independent seeds; the closed form its
 a trapezoidal quadrature of the spectrum; the runner's one-line file:line messages.
 """
 import math
-import os
 import subprocess
 from pathlib import Path
 
@@ -128,15 +127,6 @@ DECK = """&simulation title = 'irregularity', t_end = 2.0, speed = 10.0, equilib
       point1 = 0.0, -1.0, 0.45, point2 = 0.0, -1.0, 0.0, stiffness = 5.0e5, 0.0, 0.0 /
 &external_force body = 'ws1', frame = 'track', force = 0.0, 0.0, -120723.0 /
 """
-
-
-@pytest.fixture(scope="module")
-def raildyn_exe():
-    build = Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build"))
-    exe = build / "bin" / "raildyn"
-    if not exe.exists():
-        pytest.fail(f"raildyn executable not built: {exe}")
-    return exe
 
 
 def run(exe, *args, cwd=None):

@@ -1,9 +1,7 @@
 """Interval-mean records (`&output mean_samples`): against the closed-form mean of an undamped
 oscillator, against the trapezoid rule applied by the test to a dense run, no extra integrator
 steps, and the same records when the C API advances in uneven pieces."""
-import os
 import subprocess
-from pathlib import Path
 
 import h5py
 import numpy as np
@@ -11,7 +9,6 @@ import pytest
 
 import raildyn
 
-REPO = Path(__file__).resolve().parents[2]
 
 #: A 1-DOF lateral oscillator: 10 kg on a lateral spring of k = m (2 pi f)^2 with f = 3.16 Hz,
 #: started at y = 0 with 0.02 m/s, so y(t) = (v0 / w) sin(w t).
@@ -29,14 +26,6 @@ DECK = """&simulation title = 'oscillator', t_end = 1.0, speed = 0.0, equilibriu
 &element name = 'k', type = 'spring_damper', body1 = 'ground', body2 = 'b',
       point1 = 0.0, 0.0, 0.5, stiffness = 0.0, {k!r}, 0.0 /
 """
-
-
-@pytest.fixture(scope="module")
-def raildyn_exe():
-    exe = Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build")) / "bin" / "raildyn"
-    if not exe.exists():
-        pytest.fail(f"raildyn executable not built: {exe}")
-    return exe
 
 
 def write_deck(tmp_path, name, interval, samples):

@@ -1,15 +1,11 @@
 """The runner's completion summary names wheels that lost contact: a wheelset dropped onto the
 rails is in flight for t_f = sqrt(2 h / g) (closed form), so exactly the output samples before
 t_f are without contact; a wheelset that never leaves the rails gets no note."""
-import math
-import os
 import re
 import subprocess
-from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
 G = 9.80665            # standard gravity of the model (docs/conventions.md)
 R0 = 0.45              # nominal radius: knife-edge contact when the centre is R0 above the rail
 
@@ -23,14 +19,6 @@ DECK = """&simulation title = 'drop', t_end = {t_end}, speed = 0.0, equilibrium 
       contact_distance = 1.5, conicity = 0.05, creep_law = 'linear',
       friction = 0.3, shear_modulus = 8.4e10, poisson = 0.25 {extra} /
 """
-
-
-@pytest.fixture(scope="module")
-def raildyn_exe():
-    exe = Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build")) / "bin" / "raildyn"
-    if not exe.exists():
-        pytest.fail(f"raildyn executable not built: {exe}")
-    return exe
 
 
 def run(exe, tmp_path, **kw):

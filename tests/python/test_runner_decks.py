@@ -5,13 +5,10 @@ here and checks: exit status non-zero, exactly one line on stderr naming the dec
 line, the group and the parameter and saying what is expected, no Fortran runtime error or
 backtrace, and no output file left behind.
 """
-import os
 import subprocess
-from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
 
 GOOD_TRACK = """&simulation title = 'ok', t_end = 0.5, speed = 10.0 /
 &output interval = 0.1 /
@@ -19,15 +16,6 @@ GOOD_TRACK = """&simulation title = 'ok', t_end = 0.5, speed = 10.0 /
 &segment type = 'clothoid', length = 30.0, radius = 150.0, side = 'left', cant = 0.100 /
 &segment type = 'curve', length = 60.0, radius = 150.0, side = 'left', cant = 0.100 /
 """
-
-
-@pytest.fixture(scope="module")
-def raildyn_exe():
-    build = Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build"))
-    exe = build / "bin" / "raildyn"
-    if not exe.exists():
-        pytest.fail(f"raildyn executable not built: {exe}")
-    return exe
 
 
 def run(exe, *args, cwd=None):

@@ -4,14 +4,12 @@ import os
 import signal
 import subprocess
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import raildyn
 
-REPO = Path(__file__).resolve().parents[2]
 
 TC1 = """! Manchester track case 1, vehicle reference only
 &simulation title = 'TC1 track', t_end = {t_end}, speed = 4.4 /
@@ -20,15 +18,6 @@ TC1 = """! Manchester track case 1, vehicle reference only
 &segment type = 'clothoid', length = 30.0, radius = 150.0, side = 'left', cant = 0.100 /
 &segment type = 'curve', length = 60.0, radius = 150.0, side = 'left', cant = 0.100 /
 """
-
-
-@pytest.fixture(scope="module")
-def raildyn_exe():
-    build = Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build"))
-    exe = build / "bin" / "raildyn"
-    if not exe.exists():
-        pytest.fail(f"raildyn executable not built: {exe}")
-    return exe
 
 
 def deck(tmp_path, t_end=30.0, interval=0.1, flush=50):
