@@ -53,7 +53,7 @@ BANDS = VALIDATION
 __all__ = ["CASES", "Case", "CaseResult", "Check", "band_verdict", "manchester_acceptance",
            "load_package_table", "half_cycle_peaks", "growth_rate", "oscillation_wavelength",
            "window_mean", "run_case", "run_cases", "freeze_baseline", "compare_band_curve",
-           "read_band_csv", "deck_assumptions", "deck_files", "main"]
+           "read_band_csv", "deck_assumptions", "deck_files", "runner_notes", "main"]
 
 # ------------------------------------------------------------------------------------------
 # small data types
@@ -487,6 +487,13 @@ class RunInfo:
     wall_time: float
     stderr: str
     reused: bool = False
+    stdout: str = ""
+
+
+def runner_notes(stdout: str) -> list[str]:
+    """The runner's notes on a completed run ('note: ...' lines of `raildyn run`, e.g. wheels
+    that lost contact in some output samples), without the prefix."""
+    return [line[len("note:"):].strip() for line in stdout.splitlines() if line.startswith("note:")]
 
 
 #: Wall-clock limit of one run [s] ($RAILDYN_VALIDATION_TIMEOUT overrides): a run that takes
@@ -531,7 +538,7 @@ def run_deck(deck: Path, results: Path, exe: str | os.PathLike | None = None, ov
                         f"({_EXIT.get(proc.returncode, '?')}): {msg[-1] if msg else 'no message'}")
     if not results.exists():
         raise CaseError(f"raildyn run {run_deck_path} wrote no results file {results}")
-    return RunInfo(results, proc.returncode, wall, proc.stderr)
+    return RunInfo(results, proc.returncode, wall, proc.stderr, stdout=proc.stdout)
 
 
 # ------------------------------------------------------------------------------------------
@@ -1597,6 +1604,8 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
                     res.notes.append("results reused from an earlier run (--reuse)")
                 if res.status != "completed":
                     res.notes.append(f"run status: {res.status}")
+                if case.run:
+                    res.notes.extend(f"runner: {n}" for n in runner_notes(info.stdout))
                 if meta.get("solver"):
                     res.notes.append("solver statistics: " + ", ".join(
                         f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}"

@@ -1,10 +1,13 @@
 """The runner's completion summary names wheels that lost contact: a wheelset dropped onto the
 rails is in flight for t_f = sqrt(2 h / g) (closed form), so exactly the output samples before
-t_f are without contact; a wheelset that never leaves the rails gets no note."""
+t_f are without contact; a wheelset that never leaves the rails gets no note. The validation
+harness carries these notes into its case notes (the HTML report)."""
 import re
 import subprocess
 
 import pytest
+
+from raildyn import validation as V
 
 G = 9.80665            # standard gravity of the model (docs/conventions.md)
 R0 = 0.45              # nominal radius: knife-edge contact when the centre is R0 above the rail
@@ -56,3 +59,13 @@ def test_no_note_while_the_wheels_stay_on_the_rails(raildyn_exe, tmp_path):
                          text=True, timeout=120)
     assert res.returncode == 0, res.stderr
     assert "completed" in res.stdout and "note:" not in res.stdout, res.stdout
+
+
+def test_the_validation_harness_keeps_the_runner_notes(raildyn_exe, tmp_path):
+    deck = tmp_path / "drop.nml"
+    deck.write_text(DECK.format(r0=R0, t_end=2e-3, interval=1e-4, z0=R0 + 1e-3, extra=""))
+    info = V.run_deck(deck, tmp_path / "drop.h5", raildyn_exe)
+    notes = V.runner_notes(info.stdout)
+    assert [n.split(" wheel ")[0] for n in notes] == ["wheelset w1 left", "wheelset w1 right"]
+    assert all("without contact in 100.0 % of 21 output samples" in n for n in notes)
+    assert V.runner_notes("raildyn: completed t = 1 s, 11 output steps\n") == []
