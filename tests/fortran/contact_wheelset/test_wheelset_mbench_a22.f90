@@ -66,9 +66,8 @@ program test_wheelset_mbench_a22
   use rd_body_kinematics, only: body_kinematics_t
   use rd_rigid_contact, only: rigid_contact
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
-  use rd_wheelset_contact, only: wheelset_contact_t
+  use rd_wheelset_contact, only: wheelset_contact_t, patch_frame_and_point
   use rd_creepage, only: creepage_t, creepages_from_velocities
-  use rd_rotation, only: cross
   use rd_contact_surfaces, only: wheel_radius_at
   use wheelset_test_support, only: circle_track_t, shared_dir, check, failures, pose_kinematics
   implicit none
@@ -255,9 +254,10 @@ contains
   !> delta and relative curvatures A, B (gap A x^2 + B y^2) the weight is
   !> int (delta - g)^2 dA = pi delta^3 / (3 sqrt(A B)); the point is put on the wheel surface
   !> at the weighted lateral position (radius from the profile), and the creepages come from
-  !> the wheelset's velocities as in the pipeline (rd_wheelset_contact, wheel_pipeline:
-  !> material point half the approach inside the wheel). The same computation at each patch's
-  !> own point must give back the pipeline's creepages (worst_self).
+  !> the wheelset's velocities through the pipeline's own contact frame and material point
+  !> (rd_wheelset_contact, patch_frame_and_point). The same computation at each patch's own
+  !> point, on the reconstructed wheel surface, must give back the pipeline's creepages
+  !> (worst_self: checks the surface reconstruction).
   subroutine combined_reference(side, zz, rr, cr, u, gam, dist)
     integer, intent(in) :: side
     real(wp), intent(in) :: zz, rr
@@ -306,18 +306,14 @@ contains
   end function surface_point
 
   !> Rigid creepages of the wheel material point at point_wheel (wheelset intermediate frame)
-  !> moved half the approach pen along -n, n at contact angle gam (track frame, rotated into
-  !> the fixed frame), as rd_wheelset_contact's wheel_pipeline computes them.
+  !> moved half the approach pen along -n, n at contact angle gam (track frame), with the
+  !> pipeline's own contact frame and material point (rd_wheelset_contact,
+  !> patch_frame_and_point) on a rigid rail.
   type(creepage_t) function point_creepage(kin, point_wheel, gam, pen, v0) result(cr)
     type(body_kinematics_t), intent(in) :: kin
     real(wp), intent(in) :: point_wheel(3), gam, pen, v0
-    real(wp) :: n(3), xc(3), frame(3, 3), r_c(3), v_c(3)
-    n = matmul(kin%track%a, [0.0_wp, sin(gam), cos(gam)])
-    xc = kin%track%a(:, 1) - dot_product(kin%track%a(:, 1), n) * n
-    xc = xc / norm2(xc)
-    frame(:, 1) = xc; frame(:, 2) = cross(n, xc); frame(:, 3) = n
-    r_c = matmul(kin%rot_attach, point_wheel) - 0.5_wp * pen * n
-    v_c = kin%v + cross(kin%omega, r_c)
+    real(wp) :: frame(3, 3), r_c(3), v_c(3)
+    call patch_frame_and_point(kin, [0.0_wp, sin(gam), cos(gam)], point_wheel, pen, frame, r_c, v_c)
     call creepages_from_velocities(kin%v, v_c, [0.0_wp, 0.0_wp, 0.0_wp], kin%omega, [0.0_wp, 0.0_wp, 0.0_wp], &
                                    frame, v0, cr)
   end function point_creepage

@@ -41,7 +41,7 @@ module rd_wheelset_contact
   use rd_track_irregularity, only: track_irregularity_t
   implicit none
   private
-  public :: wheelset_contact_t, wheelset_model_t, SIDE_LEFT, SIDE_RIGHT
+  public :: wheelset_contact_t, wheelset_model_t, SIDE_LEFT, SIDE_RIGHT, patch_frame_and_point
 
   !> Loads below this are "no vertical load" for Y/Q [N].
   real(wp), parameter :: q_min = 1.0_wp
@@ -339,7 +339,7 @@ contains
     type(creepage_t) :: creep
     type(creep_force_t) :: cf
     type(creep_patch_t) :: cp
-    real(wp) :: a(3, 3), n(3), tx(3), xc(3), yc(3), frame(3, 3), r_c(3), v_c(3), f(3), nf, rate, ft(3)
+    real(wp) :: a(3, 3), n(3), xc(3), yc(3), frame(3, 3), r_c(3), v_c(3), f(3), nf, rate, ft(3)
     integer :: k
     a = kin%track%a
     fw = 0
@@ -348,22 +348,8 @@ contains
     out%max_penetration = wc%max_penetration
     do k = 1, wc%n_patches
       associate (p => wc%patch(k), o => out%patch(k))
-        ! contact frame (docs/conventions.md): n from the rail into the wheel, x_c = X_T
-        ! projected on the contact plane, y_c = n x x_c
-        n = matmul(a, p%normal)
-        tx = a(:, 1)
-        xc = tx - dot_product(tx, n) * n
-        xc = xc / norm2(xc)
-        yc = cross(n, xc)
-        frame(:, 1) = xc; frame(:, 2) = yc; frame(:, 3) = n
-        ! Contact point relative to the CG. The geometry returns the deepest point of the
-        ! rail surface, which lies `penetration` inside the undeformed wheel; with equal
-        ! elastic constants each body takes half the approach, so the deformed surfaces
-        ! meet half-way (the wheel's material point at the patch centre, as in CONTACT).
-        r_c = matmul(kin%rot_attach, p%point_wheel) - 0.5_wp * p%penetration * n
-        ! velocity of that wheel material point: rigid body incl. spin, the track frame's
-        ! motion and curvature are in kin%v and kin%omega (thesis eqs. 4.80-4.85)
-        v_c = kin%v + cross(kin%omega, r_c)
+        call patch_frame_and_point(kin, p%normal, p%point_wheel, p%penetration, frame, r_c, v_c)
+        xc = frame(:, 1); yc = frame(:, 2); n = frame(:, 3)
         ! d(approach)/dt: the wheel point's velocity relative to the rail material along -n
         rate = -dot_product(v_c - v_rail, n)
         cf = creep_force_t()
@@ -424,6 +410,29 @@ contains
     out%y_over_q = 0
     if (ft(3) > q_min) out%y_over_q = merge(-1.0_wp, 1.0_wp, side == SIDE_LEFT) * ft(2) / ft(3)
   end subroutine wheel_pipeline
+
+  !> Contact frame and wheel material point of a patch (thesis eqs. 4.80-4.85), fixed frame.
+  !> frame(:, 1:3) = x_c, y_c, n (docs/conventions.md): n from the rail into the wheel
+  !> (`normal`, track frame, rotated by the wheelset's track frame), x_c = X_T projected on
+  !> the contact plane, y_c = n x x_c. r_c: the material point relative to the CG; the
+  !> geometry returns the deepest rail point (`point_wheel`, wheelset intermediate frame),
+  !> `penetration` inside the undeformed wheel, and with equal elastic constants each body
+  !> takes half the approach, so the deformed surfaces meet half-way (the wheel's material
+  !> point at the patch centre, as in CONTACT). v_c: its velocity, rigid body incl. spin
+  !> (the track frame's motion and curvature are in kin%v and kin%omega).
+  pure subroutine patch_frame_and_point(kin, normal, point_wheel, penetration, frame, r_c, v_c)
+    type(body_kinematics_t), intent(in) :: kin
+    real(wp), intent(in) :: normal(3), point_wheel(3), penetration
+    real(wp), intent(out) :: frame(3, 3), r_c(3), v_c(3)
+    real(wp) :: n(3), tx(3), xc(3)
+    n = matmul(kin%track%a, normal)
+    tx = kin%track%a(:, 1)
+    xc = tx - dot_product(tx, n) * n
+    xc = xc / norm2(xc)
+    frame(:, 1) = xc; frame(:, 2) = cross(n, xc); frame(:, 3) = n
+    r_c = matmul(kin%rot_attach, point_wheel) - 0.5_wp * penetration * n
+    v_c = kin%v + cross(kin%omega, r_c)
+  end subroutine patch_frame_and_point
 
   !> Normal force with contact damping: N_el + c_n d(delta)/dt with the viscous term bounded
   !> by the elastic force, |c_n d(delta)/dt| <= N_el, so N stays in [0, 2 N_el]. The plain
