@@ -18,7 +18,7 @@ module rd_output_average
   public :: output_average_t
 
   type :: output_average_t
-    integer :: samples = 0            !< N sub-intervals per record, 0: records are samples
+    integer :: samples = 0            !< N sub-intervals per record, 0: records are samples (set before start)
     integer :: taken = 0              !< sub-samples added since the last record
     real(wp), allocatable :: previous(:)   !< last sub-sample
     real(wp), allocatable :: total(:)      !< trapezoid sum of this interval so far
@@ -32,12 +32,10 @@ module rd_output_average
 
 contains
 
-  !> Begin with N sub-intervals per record and the sample at the first record.
-  subroutine average_start(self, samples, first)
+  !> Begin with the sample at the first record (self%samples > 0 sub-intervals per record).
+  subroutine average_start(self, first)
     class(output_average_t), intent(inout) :: self
-    integer, intent(in) :: samples
     real(wp), intent(in) :: first(:)
-    self%samples = samples
     self%taken = 0
     self%previous = first
     allocate (self%total(size(first)))

@@ -77,8 +77,8 @@ module rd_scene
     real(wp) :: interval = 0
     real(wp) :: start_sigma = 0
     integer(i8) :: output_steps = 0      !< output steps written; next one at output_steps*interval
-    integer :: mean_samples = 0          !< &output mean_samples: 0 = records are samples
-    type(output_average_t) :: average    !< interval means (mean_samples > 0)
+    !> interval means; average%samples = &output mean_samples (0: records are samples)
+    type(output_average_t) :: average
     !> Contact statistics over the output samples (records and sub-samples) for the run's
     !> summary: samples taken, samples without contact per wheel (side, wheelset), largest
     !> sampled vertical wheel force [N].
@@ -174,7 +174,7 @@ contains
     if (allocated(error)) return
     call self%deck%get('output', 1, 'interval', self%interval, error)
     if (allocated(error)) return
-    call self%deck%get('output', 1, 'mean_samples', self%mean_samples, error)
+    call self%deck%get('output', 1, 'mean_samples', self%average%samples, error)
     if (allocated(error)) return
 
     if (self%deck%given('simulation', 1, 'speed_times')) then
@@ -350,6 +350,14 @@ contains
     call system_clock(self%clock_start)
     self%t = 0
     self%output_steps = 0
+    self%contact_samples = 0
+    if (allocated(self%samples_without_contact)) deallocate (self%samples_without_contact, self%max_sampled_q)
+    if (associated(self%contact)) then
+      allocate (self%samples_without_contact(2, size(self%wheelset_names)), &
+                self%max_sampled_q(2, size(self%wheelset_names)))
+      self%samples_without_contact = 0
+      self%max_sampled_q = 0
+    end if
     if (self%nbodies > 0) then
       call self%start_mechanics(error)
       if (allocated(error)) return
@@ -373,7 +381,7 @@ contains
       call self%writer%set_attribute('/', 'raildyn_version', raildyn_version, error)
       if (.not. allocated(error)) call self%writer%set_attribute('/', 'title', title, error)
       if (.not. allocated(error)) call self%writer%set_attribute('/', 'deck_file', self%deck%file_name(), error)
-      if (.not. allocated(error)) call self%writer%set_attribute('/', 'output_mean_samples', self%mean_samples, error)
+      if (.not. allocated(error)) call self%writer%set_attribute('/', 'output_mean_samples', self%average%samples, error)
       if (allocated(error)) return
       allocate (self%series(self%outputs%n))
       do i = 1, self%outputs%n
@@ -387,7 +395,7 @@ contains
     self%initialized = .true.
     call self%write_step(error)
     if (allocated(error)) return
-    if (self%mean_samples > 0) call self%average%start(self%mean_samples, self%outputs%packed())
+    if (self%average%samples > 0) call self%average%start(self%outputs%packed())
   end subroutine scene_initialize
 
   !> Advance to t_target, writing every output step passed on the way.
@@ -406,7 +414,7 @@ contains
       return
     end if
     do
-      if (self%mean_samples == 0) then
+      if (self%average%samples == 0) then
         t_out = real(self%output_steps, wp) * self%interval
         if (t_out > t_target + 1e-9_wp * self%interval) exit
         call integrate_to(t_out)
@@ -419,7 +427,7 @@ contains
         ! only at the record time (or the target, where inputs may change) and interpolates
         ! the sub-samples: they add no steps and leave the step sequence as without means.
         t_out = (real(self%output_steps - 1, wp) + self%average%next_fraction()) * self%interval
-        if (t_out > t_target + 1e-9_wp * self%interval / self%mean_samples) exit
+        if (t_out > t_target + 1e-9_wp * self%interval / self%average%samples) exit
         call integrate_to(t_out, min(real(self%output_steps, wp) * self%interval, max(t_target, t_out)))
         if (allocated(error)) return
         call self%refresh_outputs()
@@ -494,12 +502,6 @@ contains
     class(scene_t), intent(inout) :: self
     integer :: w, side
     if (.not. associated(self%contact)) return
-    if (.not. allocated(self%samples_without_contact)) then
-      allocate (self%samples_without_contact(2, size(self%wheelset_names)), &
-                self%max_sampled_q(2, size(self%wheelset_names)))
-      self%samples_without_contact = 0
-      self%max_sampled_q = 0
-    end if
     self%contact_samples = self%contact_samples + 1
     do w = 1, size(self%wheelset_names)
       do side = 1, 2
