@@ -2,6 +2,7 @@
 behaviour, writes a self-contained HTML report.
 
     python -m raildyn.validation [run] [--cases NAME ...] [--reuse] [--out DIR] [--exe PATH]
+                                 [--results CASE=FILE ...]
     python -m raildyn.validation list
     python -m raildyn.validation freeze CASE [--channels CH ...] [--rel 0.02] [--abs 1e-6]
 
@@ -458,11 +459,14 @@ def deck_sha256(deck: str | os.PathLike) -> str:
 
 
 def find_executable(exe: str | os.PathLike | None = None) -> Path:
-    """The raildyn runner: explicit path, $RAILDYN_EXE, $RAILDYN_BUILD_DIR/bin/raildyn,
+    """The raildyn runner: the explicit path if given (an error if it is not an executable:
+    never another runner in its place), else $RAILDYN_EXE, $RAILDYN_BUILD_DIR/bin/raildyn,
     <repo>/build/bin/raildyn."""
-    cands = []
     if exe:
-        cands.append(Path(exe))
+        if Path(exe).is_file() and os.access(exe, os.X_OK):
+            return Path(exe)
+        raise CaseError(f"raildyn executable {exe} (--exe) is not an executable file")
+    cands = []
     if os.environ.get("RAILDYN_EXE"):
         cands.append(Path(os.environ["RAILDYN_EXE"]))
     if os.environ.get("RAILDYN_BUILD_DIR"):
@@ -1566,9 +1570,12 @@ def _attach_band_checks(ctx: Context) -> None:
 
 
 def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | None = None,
-             reuse: bool = False, others: dict[str, Path] | None = None) -> CaseResult:
+             reuse: bool = False, others: dict[str, Path] | None = None,
+             given: str | os.PathLike | None = None) -> CaseResult:
     """Run (or reuse) one case and evaluate it. Never raises for physics or run problems:
-    they are reported in the CaseResult (``error`` and failed checks)."""
+    they are reported in the CaseResult (``error`` and failed checks).
+    ``given``: evaluate this results file instead of running the case's deck (e.g. one run of
+    a campaign that varies the deck); the report says so."""
     case = CASES[name]
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -1588,7 +1595,16 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
                 run_deck(CASES[dep].deck_path, p, exe)
             others[dep] = p
         r = None
-        if case.run:
+        if case.run and given is not None:
+            given = Path(given)
+            if not given.is_file():
+                raise CaseError(f"results file {given} given for case {name} (--results) does not exist")
+            info = RunInfo(given, 0, 0.0, "", reused=True)
+            res.results_path = os.fspath(given)
+            res.notes.append(f"results taken from {given} (--results), not run from the case deck "
+                             f"inputs/{case.deck}: the assumptions listed are that deck's")
+            r = Results(given)
+        elif case.run:
             info = run_deck(case.deck_path, results_path, exe, reuse=reuse)
             res.results_path = os.fspath(info.results)
             res.run_wall_time = None if info.reused else info.wall_time
@@ -1601,7 +1617,8 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
                 if info.reused:
                     wt = meta.get("wall_time")
                     res.run_wall_time = float(wt) if wt is not None else None
-                    res.notes.append("results reused from an earlier run (--reuse)")
+                    if given is None:
+                        res.notes.append("results reused from an earlier run (--reuse)")
                 if res.status != "completed":
                     res.notes.append(f"run status: {res.status}")
                 if case.run:
@@ -1632,8 +1649,11 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
 
 
 def run_cases(names: Sequence[str], out_dir: str | os.PathLike, exe: str | os.PathLike | None = None,
-              reuse: bool = False) -> list[CaseResult]:
+              reuse: bool = False, given: dict[str, Path] | None = None) -> list[CaseResult]:
+    """Run and evaluate the cases (dependencies first). ``given``: case name -> results file
+    to evaluate instead of running that case's deck."""
     out_dir = Path(out_dir)
+    given = dict(given or {})
     done: dict[str, Path] = {}
     results = []
     # dependencies first
@@ -1645,7 +1665,7 @@ def run_cases(names: Sequence[str], out_dir: str | os.PathLike, exe: str | os.Pa
         if n not in order:
             order.append(n)
     for n in order:
-        r = run_case(n, out_dir, exe, reuse, done)
+        r = run_case(n, out_dir, exe, reuse, done, given.get(n))
         if r.results_path:
             done[n] = Path(r.results_path)
         if n in names:
@@ -1702,10 +1722,22 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", default="validation-out", help="output directory (default %(default)s)")
     p.add_argument("--exe", help="raildyn executable (default: $RAILDYN_BUILD_DIR/bin/raildyn or build/bin/raildyn)")
     p.add_argument("--report", help="HTML report path (default OUT/validation_report.html)")
+    p.add_argument("--results", action="append", default=[], metavar="CASE=FILE",
+                   help="evaluate FILE (e.g. a campaign run's results.h5) for CASE instead of "
+                        "running the case's deck; repeatable")
     a = p.parse_args(argv)
     names = a.cases or list(CASES)
+    given: dict[str, Path] = {}
+    for item in a.results:
+        case_name, sep, file = item.partition("=")
+        if not sep or not file:
+            p.error(f"--results {item!r}: expected CASE=FILE")
+        if case_name not in names:
+            p.error(f"--results {item!r}: case {case_name!r} is not among the cases to run "
+                    f"({', '.join(names)})")
+        given[case_name] = Path(file)
     t0 = time.perf_counter()
-    results = run_cases(names, a.out, a.exe, a.reuse)
+    results = run_cases(names, a.out, a.exe, a.reuse, given)
     from .report import write_report
     report = Path(a.report or Path(a.out) / "validation_report.html")
     write_report(results, report, git_commit=_git_commit(), total_time=time.perf_counter() - t0)

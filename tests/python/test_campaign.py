@@ -146,3 +146,17 @@ def test_runner_campaign_command(campaign_file):
     bad.write_text('name = "x"\n')
     res = subprocess.run([str(exe), "campaign", "run", str(bad)], capture_output=True, text=True)
     assert res.returncode == 1 and "'deck' is required" in res.stderr
+
+
+@pytest.mark.parametrize("path", sorted(REPO.glob("validation/**/*.toml")), ids=lambda p: p.name)
+def test_repository_campaigns_make_valid_decks(path, tmp_path, raildyn_exe):
+    """Every campaign shipped in the repository loads, and the deck of each of its runs passes
+    `raildyn check` (the override groups name parameters the runner knows, with valid values)."""
+    import subprocess
+    c = cp.load_campaign(path)
+    assert c.deck.is_file() and c.runs() and c.metrics
+    for k, params in enumerate(c.runs()):
+        deck = tmp_path / f"run{k}.nml"
+        deck.write_text(cp.override_deck(c.deck, params))
+        proc = subprocess.run([str(raildyn_exe), "check", str(deck)], capture_output=True, text=True)
+        assert proc.returncode == 0, proc.stdout + proc.stderr

@@ -365,6 +365,35 @@ def test_manchester_case_end_to_end(make_results_file, tmp_path):
     assert not worst.passed and worst.value > 30.0
 
 
+def test_cli_evaluates_a_given_results_file(make_results_file, tmp_path, capsys):
+    """--results CASE=FILE evaluates a file made elsewhere (e.g. a campaign run) without running
+    the deck: with an executable that does not exist, any attempt to run would fail the case."""
+    t, series = _manchester_file(make_results_file)
+    (tmp_path / "campaign" / "run_0001").mkdir(parents=True)
+    given = make_results_file("campaign/run_0001/results.h5", t, series,
+                              meta_attrs={"status": "completed"}, deck_text="! synthetic")
+    out = tmp_path / "report"
+    argv = ["--cases", "manchester_v1_tc1", "--out", str(out), "--exe", str(tmp_path / "no-raildyn")]
+    assert V.main(argv + ["--results", f"manchester_v1_tc1={given}"]) == 0
+    assert not (out / "manchester_v1_tc1.h5").exists()
+    html = (out / "validation_report.html").read_text()
+    assert "(--results), not run from the case deck" in html and str(given) in html
+    # without the file the case is run: the explicit executable is missing, and no other
+    # runner is taken in its place
+    capsys.readouterr()
+    assert V.main(argv) == 1
+    assert "no-raildyn (--exe) is not an executable file" in capsys.readouterr().out
+    # a file that does not exist, and malformed arguments, are refused with a message
+    assert V.main(argv + ["--results", f"manchester_v1_tc1={tmp_path / 'none.h5'}"]) == 1
+    assert "does not exist" in capsys.readouterr().out
+    for bad in ("manchester_v1_tc1", f"tgv_wheelset={given}"):
+        with pytest.raises(SystemExit) as e:
+            V.main(argv + ["--results", bad])
+        assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert "expected CASE=FILE" in err and "not among the cases to run" in err
+
+
 def test_manchester_case_reports_missing_bodies(make_results_file, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
