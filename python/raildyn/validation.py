@@ -54,7 +54,7 @@ BANDS = VALIDATION
 __all__ = ["CASES", "Case", "CaseResult", "Check", "band_verdict", "manchester_acceptance",
            "load_package_table", "half_cycle_peaks", "growth_rate", "oscillation_wavelength",
            "window_mean", "run_case", "run_cases", "freeze_baseline", "compare_band_curve",
-           "read_band_csv", "deck_assumptions", "deck_files", "runner_notes", "main"]
+           "read_band_csv", "deck_assumptions", "deck_files", "run_notes", "main"]
 
 # ------------------------------------------------------------------------------------------
 # small data types
@@ -494,10 +494,11 @@ class RunInfo:
     stdout: str = ""
 
 
-def runner_notes(stdout: str) -> list[str]:
-    """The runner's notes on a completed run ('note: ...' lines of `raildyn run`, e.g. wheels
-    that lost contact in some output samples), without the prefix."""
-    return [line[len("note:"):].strip() for line in stdout.splitlines() if line.startswith("note:")]
+def run_notes(metadata: dict) -> list[str]:
+    """The run's notes as the results file keeps them (``/meta`` attribute ``notes``, one per
+    line; the 'note:' lines `raildyn run` prints), e.g. wheels that lost contact in some
+    output samples. Files written before the attribute existed have none."""
+    return [line.strip() for line in str(metadata.get("notes") or "").splitlines() if line.strip()]
 
 
 #: Wall-clock limit of one run [s] ($RAILDYN_VALIDATION_TIMEOUT overrides): a run that takes
@@ -1621,8 +1622,7 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
                         res.notes.append("results reused from an earlier run (--reuse)")
                 if res.status != "completed":
                     res.notes.append(f"run status: {res.status}")
-                if case.run:
-                    res.notes.extend(f"runner: {n}" for n in runner_notes(info.stdout))
+                res.notes.extend(f"run: {n}" for n in run_notes(meta))
                 if meta.get("solver"):
                     res.notes.append("solver statistics: " + ", ".join(
                         f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}"

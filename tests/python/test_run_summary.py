@@ -1,7 +1,8 @@
 """The runner's completion summary names wheels that lost contact: a wheelset dropped onto the
 rails is in flight for t_f = sqrt(2 h / g) (closed form), so exactly the output samples before
-t_f are without contact; a wheelset that never leaves the rails gets no note. The validation
-harness carries these notes into its case notes (the HTML report)."""
+t_f are without contact; a wheelset that never leaves the rails gets no note. The results
+file keeps the notes (/meta attribute 'notes') and the validation harness carries them into its
+case notes (the HTML report), for reused results too."""
 import re
 import subprocess
 
@@ -61,11 +62,25 @@ def test_no_note_while_the_wheels_stay_on_the_rails(raildyn_exe, tmp_path):
     assert "completed" in res.stdout and "note:" not in res.stdout, res.stdout
 
 
-def test_the_validation_harness_keeps_the_runner_notes(raildyn_exe, tmp_path):
+def test_the_results_file_and_the_harness_keep_the_notes(raildyn_exe, tmp_path):
+    """The notes the runner prints are kept in the results file (/meta attribute 'notes'), so
+    the validation harness reports them for reused results too; a run without notes has no
+    attribute."""
+    import h5py
     deck = tmp_path / "drop.nml"
     deck.write_text(DECK.format(r0=R0, t_end=2e-3, interval=1e-4, z0=R0 + 1e-3, extra=""))
     info = V.run_deck(deck, tmp_path / "drop.h5", raildyn_exe)
-    notes = V.runner_notes(info.stdout)
+    printed = [line[len("note: "):] for line in info.stdout.splitlines() if line.startswith("note: ")]
+    with h5py.File(info.results, "r") as f:
+        kept = f["meta"].attrs["notes"]
+        kept = (kept.decode() if isinstance(kept, bytes) else str(kept)).split("\n")
+    assert kept == printed and len(kept) == 2
+    notes = V.run_notes(V.Results(info.results).metadata)
+    assert notes == printed
     assert [n.split(" wheel ")[0] for n in notes] == ["wheelset w1 left", "wheelset w1 right"]
     assert all("without contact in 100.0 % of 21 output samples" in n for n in notes)
-    assert V.runner_notes("raildyn: completed t = 1 s, 11 output steps\n") == []
+    deck.write_text(DECK.format(r0=R0, t_end=0.05, interval=1e-3, z0=R0 - 1.0e-5, extra=""))
+    info = V.run_deck(deck, tmp_path / "rest.h5", raildyn_exe)
+    with h5py.File(info.results, "r") as f:
+        assert "notes" not in f["meta"].attrs
+    assert V.run_notes(V.Results(info.results).metadata) == []

@@ -112,6 +112,7 @@ module rd_scene
     procedure :: set_input => scene_set_input
     procedure :: summary => scene_summary
     procedure :: completion_summary => scene_completion_summary
+    procedure :: run_notes => scene_run_notes
     procedure :: default_output_file => scene_default_output_file
     procedure :: vehicle_sigma => scene_vehicle_sigma
     procedure :: integrator_stats => scene_integrator_stats
@@ -841,7 +842,7 @@ contains
       block
         type(integrator_stats_t) :: st
         call self%integrator%get_stats(st)
-        call self%writer%close(status, self%t, wall, error, &
+        call self%writer%close(status, self%t, wall, error, notes=self%run_notes(), &
           int_stat_names=[character(len=24) :: 'n_steps', 'n_rhs', 'n_rhs_jacobian', 'n_jac', &
                           'n_linear_setups', 'n_error_fail', 'n_newton_fail', 'n_reinit'], &
           int_stat_values=[st%steps, st%rhs_evals, st%rhs_evals_jacobian, st%jacobian_evals, &
@@ -851,7 +852,7 @@ contains
           real_stat_values=[st%last_step, self%equilibrium_residual])
       end block
     else
-      call self%writer%close(status, self%t, wall, error)
+      call self%writer%close(status, self%t, wall, error, notes=self%run_notes())
     end if
   end subroutine close_output
 
@@ -1026,15 +1027,33 @@ contains
            trim(int_text(self%deck%count('wheelset'))) // ' wheelsets, t_end ' // trim(real_text(self%t_end)) // ' s'
   end function scene_summary
 
+  !> One line for the runner: time reached and output steps, then 'note: ' + each run note.
   function scene_completion_summary(self) result(text)
     class(scene_t), intent(in) :: self
-    character(len=:), allocatable :: text
-    integer :: w, side
-    character(len=16) :: pct, qmax
+    character(len=:), allocatable :: text, notes
+    integer :: start, stop_at
     text = 'completed t = ' // trim(real_text(self%t)) // ' s, ' // trim(int_text(int(self%output_steps))) // &
            ' output steps'
-    ! Wheels that lost contact: a user must know that the results contain flights and impacts
-    ! (flange bouncing, lift-off) before reading means off them.
+    notes = self%run_notes()
+    start = 1
+    do while (start <= len(notes))
+      stop_at = index(notes(start:), new_line('a'))
+      if (stop_at == 0) stop_at = len(notes) - start + 2
+      text = text // new_line('a') // 'note: ' // notes(start:start + stop_at - 2)
+      start = start + stop_at
+    end do
+  end function scene_completion_summary
+
+  !> The run's notes for readers, one per line ('' when there are none): wheels that lost
+  !> contact. A user must know that the results contain flights and impacts (flange bouncing,
+  !> lift-off) before reading means off them; the runner prints them and the results file
+  !> keeps them (/meta attribute 'notes', docs/output.md).
+  function scene_run_notes(self) result(notes)
+    class(scene_t), intent(in) :: self
+    character(len=:), allocatable :: notes
+    integer :: w, side
+    character(len=16) :: pct, qmax
+    notes = ''
     if (.not. allocated(self%samples_without_contact)) return
     do w = 1, size(self%wheelset_names)
       do side = 1, 2
@@ -1042,13 +1061,14 @@ contains
         write (pct, '(f0.1)') 100.0_wp * real(self%samples_without_contact(side, w), wp) / &
                               real(self%contact_samples, wp)
         write (qmax, '(f0.1)') 1.0e-3_wp * self%max_sampled_q(side, w)
-        text = text // new_line('a') // 'note: wheelset ' // trim(self%wheelset_names(w)) // ' ' // &
-               trim(merge('left ', 'right', side == 1)) // ' wheel without contact in ' // trim(pct) // &
-               ' % of ' // trim(int_text(int(self%contact_samples))) // ' output samples (largest sampled Q ' // &
-               trim(qmax) // ' kN)'
+        if (len(notes) > 0) notes = notes // new_line('a')
+        notes = notes // 'wheelset ' // trim(self%wheelset_names(w)) // ' ' // &
+                trim(merge('left ', 'right', side == 1)) // ' wheel without contact in ' // trim(pct) // &
+                ' % of ' // trim(int_text(int(self%contact_samples))) // ' output samples (largest sampled Q ' // &
+                trim(qmax) // ' kN)'
       end do
     end do
-  end function scene_completion_summary
+  end function scene_run_notes
 
   !> The deck's path with its extension replaced by `suffix` (e.g. '_track.h5').
   function scene_default_output_file(self, suffix) result(path)

@@ -556,12 +556,15 @@ contains
   !> `/meta/solver` (integer and real lists of names and values). The writer is closed
   !> afterwards even when an error is returned.
   subroutine writer_close(self, status, end_time, wall_time, error, int_stat_names, &
-                          int_stat_values, real_stat_names, real_stat_values)
+                          int_stat_values, real_stat_names, real_stat_values, notes)
     class(h5_writer_t), intent(inout) :: self
     character(len=*), intent(in) :: status
     real(wp), intent(in) :: end_time, wall_time
     type(error_t), allocatable, intent(out) :: error
     character(len=*), intent(in), optional :: int_stat_names(:), real_stat_names(:)
+    !> the run's notes for readers (one per line; '' = none, no attribute), e.g. wheels that
+    !> lost contact: so that results read later still say what the run printed
+    character(len=*), intent(in), optional :: notes
     integer(i8), intent(in), optional :: int_stat_values(:)
     real(wp), intent(in), optional :: real_stat_values(:)
     type(error_t), allocatable :: write_error
@@ -623,6 +626,9 @@ contains
     if (.not. allocated(error)) call self%set_attribute('meta', 'end_time', end_time, error)
     if (.not. allocated(error)) call self%set_attribute('meta', 'wall_time', wall_time, error)
     if (.not. allocated(error)) call self%set_attribute('meta', 'n_steps', self%nwritten, error)
+    if (present(notes)) then
+      if (.not. allocated(error) .and. len(notes) > 0) call self%set_attribute('meta', 'notes', notes, error)
+    end if
     if (present(int_stat_names)) then
       do k = 1, size(int_stat_names)
         if (allocated(error)) exit
