@@ -49,19 +49,12 @@ module rd_static_preload
   use rd_multibody, only: multibody_t
   use rd_body_spec, only: DOF_PITCH
   use rd_speed_law, only: speed_law_t, constant_speed
-  use rd_track_point, only: track_point_t, track_geometry_t
+  use rd_track_point, only: track_geometry_t
+  use rd_level_straight_track, only: level_straight_track_t
   use rd_text, only: int_text, real_text
   implicit none
   private
-  public :: solve_static_preloads, solve_static_positions, level_straight_track_t
-
-  !> Straight level track along X (A = I): the frames a vehicle is built in (its elements'
-  !> free lengths and preloads), whatever the track where a scene starts.
-  type, extends(track_geometry_t) :: level_straight_track_t
-  contains
-    procedure :: evaluate => level_evaluate
-    procedure :: length => level_length
-  end type level_straight_track_t
+  public :: solve_static_preloads, solve_static_positions
 
   interface
     subroutine dgelsd(m, n, nrhs, a, lda, b, ldb, s, rcond, rank, work, lwork, iwork, info)
@@ -364,20 +357,4 @@ contains
       res = ydot(equation)
     end subroutine static_residual
   end subroutine solve_static_positions
-
-  pure function level_evaluate(self, sigma) result(point)
-    class(level_straight_track_t), intent(in) :: self
-    real(wp), intent(in) :: sigma
-    type(track_point_t) :: point
-    point%sigma = sigma
-    point%r = [sigma, 0.0_wp, 0.0_wp]
-    point%dr = [1.0_wp, 0.0_wp, 0.0_wp]
-    point%a = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
-  end function level_evaluate
-
-  pure function level_length(self) result(total)
-    class(level_straight_track_t), intent(in) :: self
-    real(wp) :: total
-    total = huge(1.0_wp)
-  end function level_length
 end module rd_static_preload

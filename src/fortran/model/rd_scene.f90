@@ -34,7 +34,8 @@ module rd_scene
   use rd_force_element, only: force_element_t
   use rd_force_provider, only: force_provider_t
   use rd_external_loads, only: external_loads_t
-  use rd_static_preload, only: solve_static_preloads, solve_static_positions, level_straight_track_t
+  use rd_static_preload, only: solve_static_preloads, solve_static_positions
+  use rd_level_straight_track, only: level_straight_track_t
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t, &
                            jacobian_sparsity_t
   use rd_scene_jacobian, only: scene_jacobian_sparsity
