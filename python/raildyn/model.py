@@ -37,6 +37,7 @@ STATUS_NAMES = {
 
 _MESSAGE_LEN = 8192
 _NAME_LEN = 512
+_NOTES_LEN = 65536     # rd_run_notes: about 120 characters per wheel that lost contact
 _rd_handle = ctypes.c_int64
 _c_double_p = ctypes.POINTER(ctypes.c_double)
 
@@ -100,6 +101,7 @@ def load_library(path: str | None = None) -> ctypes.CDLL:
         "rd_set_input": (c_int, [h, c_char_p, _c_double_p, c_int]),
         "rd_finalize": (c_int, [h]),
         "rd_error_message": (c_int, [h, ctypes.c_char_p, c_int]),
+        "rd_run_notes": (c_int, [h, ctypes.c_char_p, c_int]),
         "rd_destroy": (c_int, [h]),
     }
     for name, (restype, argtypes) in prototypes.items():
@@ -239,6 +241,13 @@ class Model:
             raise ValueError(f"set_input({name!r}): values must be finite")
         self._check(self._lib.rd_set_input(self.handle, name.encode("utf-8"),
                                            array.ctypes.data_as(_c_double_p), array.size))
+
+    def run_notes(self) -> list[str]:
+        """The run's notes so far (wheels without contact in some output samples: share of
+        samples, largest sampled vertical force), one string each."""
+        buffer = ctypes.create_string_buffer(_NOTES_LEN)
+        self._check(self._lib.rd_run_notes(self.handle, buffer, _NOTES_LEN))
+        return [line for line in buffer.value.decode("utf-8").splitlines() if line]
 
     # -- end ------------------------------------------------------------------------
     def finalize(self) -> None:

@@ -75,6 +75,12 @@ int rd_finalize(rd_handle handle);
  * to message_len - 1 characters. */
 int rd_error_message(rd_handle handle, char *message, int message_len);
 
+/* The run's notes so far, one per line ("" if none): wheels without contact in some output
+ * samples, with their share and the largest sampled vertical force (the lines `raildyn run`
+ * prints after "note:", kept in the results file's /meta attribute "notes").
+ * NUL-terminated, truncated to notes_len - 1 characters. */
+int rd_run_notes(rd_handle handle, char *notes, int notes_len);
+
 /* Free everything the handle owns (closes the output if still open). */
 int rd_destroy(rd_handle handle);
 

@@ -301,6 +301,17 @@ contains
     call f_to_c_string(model%message, message, message_len)
   end function rd_error_message
 
+  function rd_run_notes(handle, notes, notes_len) result(status) bind(C, name='rd_run_notes')
+    integer(c_int64_t), value :: handle
+    character(kind=c_char), intent(out) :: notes(*)
+    integer(c_int), value :: notes_len
+    integer(c_int) :: status
+    type(capi_model_t), pointer :: model
+    call lookup(handle, model, status)
+    if (status /= RD_OK) return
+    call f_to_c_string(model%scene%run_notes(), notes, notes_len)
+  end function rd_run_notes
+
   function rd_destroy(handle) result(status) bind(C, name='rd_destroy')
     integer(c_int64_t), value :: handle
     integer(c_int) :: status

@@ -84,3 +84,22 @@ def test_the_results_file_and_the_harness_keep_the_notes(raildyn_exe, tmp_path):
     with h5py.File(info.results, "r") as f:
         assert "notes" not in f["meta"].attrs
     assert V.run_notes(V.Results(info.results).metadata) == []
+
+
+def test_the_c_api_gives_the_same_notes(raildyn_exe, tmp_path):
+    """rd_run_notes (Model.run_notes) while stepping: none before the first sample without
+    contact, then the lines the runner prints for the same deck at the end."""
+    import raildyn
+    text = DECK.format(r0=R0, t_end=2e-3, interval=1e-4, z0=R0 + 1e-3, extra="")
+    deck = tmp_path / "drop.nml"
+    deck.write_text(text)
+    printed = [line[len("note: "):] for line in run(raildyn_exe, tmp_path, t_end=2e-3, interval=1e-4,
+                                                        z0=R0 + 1e-3).splitlines()
+               if line.startswith("note: ")]
+    with raildyn.Model.from_string(text, tmp_path) as m:
+        m.initialize(write_output=False)
+        assert len(m.run_notes()) == 2          # step 0 is already a sample in flight
+        m.advance(1e-3)
+        assert all("100.0 % of 11 output samples" in n for n in m.run_notes())
+        m.advance(2e-3)
+        assert m.run_notes() == printed and len(printed) == 2
