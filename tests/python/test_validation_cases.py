@@ -36,7 +36,9 @@ KNOWN_FAILURES = {
                             "30%): our wheelsets sit at the rigid flange-contact jump (6.2-6.3 mm, as "
                             "in the A-2.2 geometry), the packages' 1.3-1.8 mm further. 27 to 29 of 32 "
                             "entries lie in the widened band (90% required) depending on which of two "
-                            "states the chaotically bouncing wheelset 1 settles in; open"),
+                            "states the chaotically bouncing wheelset 1 settles in. With the gauge "
+                            "widened by 1.5-3 mm (study, docs/validation.md) the rule passes: the "
+                            "packages' flange clearance is not in our data"),
 }
 
 
