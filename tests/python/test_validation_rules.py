@@ -347,6 +347,13 @@ def test_manchester_case_end_to_end(make_results_file, tmp_path):
     assert chk["largest deviation from the package range"].value == pytest.approx(0.0)
     assert len(res.tables[0].rows) == 32 and len(res.plots) >= 5
     assert any("ASSUMPTION" not in a and "right-hand curve" in a for a in res.assumptions)
+    clearance = [n for n in res.notes if n.startswith("Flange clearance")]
+    shifts = [float(np.median(e.magnitudes_si())) * 1e3 for e in V.load_package_table()
+              if e.quantity == "lateral_shift"]            # the synthetic file holds the medians
+    assert len(clearance) == 1, res.notes
+    m = re.search(r"sit ([0-9.]+) / ([0-9.]+) / ([0-9.]+) / ([0-9.]+) mm", clearance[0])
+    assert m and [float(v) for v in m.groups()] == pytest.approx(shifts, abs=0.006), clearance
+    assert "at 5.8-8.0 mm (medians 7.5 / 8.0 / 6.8 / 7.3)" in clearance[0], clearance
     html = render_report([res])
     assert html.count("data:image/png;base64,") == len(res.plots)
     assert not re.search(r"(src|href)=['\"](https?:|//)", html), "report must be self-contained"
