@@ -17,7 +17,7 @@
 program test_side_profiles
   use rd_kinds, only: wp
   use rd_error, only: error_t
-  use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL
+  use rd_profile, only: profile_t
   use rd_profile_analytic, only: s1002_profile, rail_head_profile, RAIL_60E1, RAIL_54E1
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
   use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, wheelset_contact, wheel_contact, &
@@ -25,7 +25,7 @@ program test_side_profiles
   use rd_contact_patch, only: wheel_contact_t, mirror_wheel_contact
   use rd_rigid_contact, only: rigid_contact
   use rd_profile_scan, only: profile_scan_t, run_profile_scan
-  use geometry_test_support, only: check, failures
+  use geometry_test_support, only: check, failures, cone_wheel_profile, circle_rail_profile, circle_rail_centre_y
   implicit none
   type(profile_t) :: ws, r60, r54, wsdr, r60s
   type(error_t), allocatable :: error
@@ -35,7 +35,10 @@ program test_side_profiles
   type(wheel_contact_t) :: l1, r1, l2, r2, ref
   real(wp), parameter :: dr = 5.0e-4_wp, dshift = 3.0e-3_wp, hshift = -2.0e-3_wp
   real(wp) :: ys(5), yaws(2), rolls(2), z, phi, phi0, roll, z2, phi2, dmax, dmax2, e0, phi_ref, pen_l, pen_r
-  integer :: i, j, k, nbad, nposes
+  integer :: i, j, k, m, nbad, nposes
+  ! the poses of (a) and (c): ys x yaws x rolls about today's rigid-contact pose lowered by 20 um
+  integer, parameter :: npose = 20
+  real(wp) :: pose_y(npose), pose_yaw(npose), pose_z(npose), pose_roll(npose)
   logical :: ok
   ! (d): conicity, rail head radii (left, right), and the oracle's geometry (two_circle_scan)
   real(wp), parameter :: lam = 0.05_wp, rl = 0.3_wp, rr = 0.2_wp
@@ -54,6 +57,16 @@ program test_side_profiles
   ys = [-6.0e-3_wp, -3.0e-3_wp, 0.0_wp, 2.0e-3_wp, 5.0e-3_wp]
   yaws = [0.0_wp, 2.0e-3_wp]
   rolls = [0.0_wp, 1.5e-5_wp]     ! about the rigid roll: both wheels stay in contact
+  k = 0
+  do i = 1, size(ys)
+    do j = 1, size(yaws)
+      do m = 1, size(rolls)
+        k = k + 1
+        call base_pose(geo_t, ys(i), yaws(j), pose_z(k), phi0)
+        pose_y(k) = ys(i); pose_yaw(k) = yaws(j); pose_roll(k) = phi0 + rolls(m)
+      end do
+    end do
+  end do
 
   ! ---- (a) same profiles given explicitly on both sides
   call init_strip_contact(geo_e, ws, r60, pl, opt, error, wheel_profile_right=ws, rail_profile_right=r60, &
@@ -62,18 +75,12 @@ program test_side_profiles
   call check(.not. (geo_e%own_wheel_right .or. geo_e%own_rail_right) .and. .not. allocated(geo_e%wheel_right%y) &
     .and. .not. allocated(geo_e%rail_right%y), '(a) equal right profiles share the left surfaces (no copy)')
   nbad = 0; nposes = 0
-  do i = 1, size(ys)
-    do j = 1, size(yaws)
-      do k = 1, size(rolls)
-        call base_pose(geo_t, ys(i), yaws(j), z, phi0)
-        roll = phi0 + rolls(k)
-        call wheelset_contact(geo_t, ys(i), z, roll, yaws(j), l1, r1, error)
-        call wheelset_contact(geo_e, ys(i), z, roll, yaws(j), l2, r2, error)
-        if (allocated(error)) error stop error%message
-        nposes = nposes + 1
-        if (.not. (identical(l1, l2) .and. identical(r1, r2))) nbad = nbad + 1
-      end do
-    end do
+  do k = 1, npose
+    call wheelset_contact(geo_t, pose_y(k), pose_z(k), pose_roll(k), pose_yaw(k), l1, r1, error)
+    call wheelset_contact(geo_e, pose_y(k), pose_z(k), pose_roll(k), pose_yaw(k), l2, r2, error)
+    if (allocated(error)) error stop error%message
+    nposes = nposes + 1
+    if (.not. (identical(l1, l2) .and. identical(r1, r2))) nbad = nbad + 1
   end do
   call check(nbad == 0 .and. nposes == 20, '(a) explicit equal right profiles: both wheels bit for bit as today (20 poses)')
 
@@ -85,19 +92,13 @@ program test_side_profiles
   if (allocated(error)) error stop error%message
   call check(geo_a%own_wheel_right .and. geo_a%own_rail_right, '(a) different right profiles get own surfaces')
   nbad = 0; nposes = 0
-  do i = 1, size(ys)
-    do j = 1, size(yaws)
-      do k = 1, size(rolls)
-        call base_pose(geo_t, ys(i), yaws(j), z, phi0)
-        roll = phi0 + rolls(k)
-        call wheelset_contact(geo_a, ys(i), z, roll, yaws(j), l1, r1, error)
-        call wheel_contact(geo_l, SIDE_LEFT, ys(i), z, roll, yaws(j), l2)
-        call wheel_contact(geo_t, SIDE_RIGHT, ys(i), z, roll, yaws(j), r2)
-        if (allocated(error)) error stop error%message
-        if (.not. (identical(l1, l2) .and. identical(r1, r2))) nbad = nbad + 1
-        if (l1%n_patches > 0 .and. r1%n_patches > 0) nposes = nposes + 1
-      end do
-    end do
+  do k = 1, npose
+    call wheelset_contact(geo_a, pose_y(k), pose_z(k), pose_roll(k), pose_yaw(k), l1, r1, error)
+    call wheel_contact(geo_l, SIDE_LEFT, pose_y(k), pose_z(k), pose_roll(k), pose_yaw(k), l2)
+    call wheel_contact(geo_t, SIDE_RIGHT, pose_y(k), pose_z(k), pose_roll(k), pose_yaw(k), r2)
+    if (allocated(error)) error stop error%message
+    if (.not. (identical(l1, l2) .and. identical(r1, r2))) nbad = nbad + 1
+    if (l1%n_patches > 0 .and. r1%n_patches > 0) nposes = nposes + 1
   end do
   write (*, '(a,i0,a)') '(a) own right surfaces: ', nposes, ' of 20 poses with patches on both wheels'
   call check(nbad == 0 .and. nposes >= 10, '(a) own right surfaces: each side bit for bit its single-profile model (20 poses)')
@@ -172,18 +173,12 @@ program test_side_profiles
   call init_strip_contact(geo_m, ws, r60, pl, opt, error, wheel_profile_right=wsdr, rail_profile_right=r54)
   if (allocated(error)) error stop error%message
   nbad = 0
-  do i = 1, size(ys)
-    do j = 1, size(yaws)
-      do k = 1, size(rolls)
-        call base_pose(geo_t, ys(i), yaws(j), z, phi0)
-        roll = phi0 + rolls(k)
-        call wheelset_contact(geo_a, ys(i), z, roll, yaws(j), l1, r1, error)
-        call wheelset_contact(geo_m, -ys(i), z, -roll, -yaws(j), l2, r2, error)
-        if (allocated(error)) error stop error%message
-        call mirror_wheel_contact(l2); call mirror_wheel_contact(r2)
-        if (.not. (identical(l1, r2) .and. identical(r1, l2))) nbad = nbad + 1
-      end do
-    end do
+  do k = 1, npose
+    call wheelset_contact(geo_a, pose_y(k), pose_z(k), pose_roll(k), pose_yaw(k), l1, r1, error)
+    call wheelset_contact(geo_m, -pose_y(k), pose_z(k), -pose_roll(k), -pose_yaw(k), l2, r2, error)
+    if (allocated(error)) error stop error%message
+    call mirror_wheel_contact(l2); call mirror_wheel_contact(r2)
+    if (.not. (identical(l1, r2) .and. identical(r1, l2))) nbad = nbad + 1
   end do
   call check(nbad == 0, '(c) swapped profiles, mirrored pose: exactly mirrored contacts (20 poses)')
   dmax = 0
@@ -288,19 +283,9 @@ contains
     type(profile_scan_t) :: scan
     real(wp) :: a, b, fa, fm, m, zc, s_l, s_r, dr_ref, phi_ref
     integer :: q, k0
-    allocate (cone%y(1301), cone%z(1301), circ_l%y(2001), circ_l%z(2001), circ_r%y(2001), circ_r%z(2001))
-    do q = 1, 1301
-      cone%y(q) = -0.070_wp + 1.0e-4_wp * (q - 1)
-      cone%z(q) = -lam * cone%y(q)
-    end do
-    do q = 1, 2001
-      circ_l%y(q) = -0.1_wp + 1.0e-4_wp * (q - 1)
-      circ_l%z(q) = sqrt(rl**2 - circ_l%y(q)**2) - rl
-      circ_r%y(q) = circ_l%y(q)
-      circ_r%z(q) = sqrt(rr**2 - circ_r%y(q)**2) - rr
-    end do
-    cone%kind = PROFILE_WHEEL; circ_l%kind = PROFILE_RAIL; circ_r%kind = PROFILE_RAIL
-    cone%source = 'cone'; circ_l%source = 'circle R 0.3'; circ_r%source = 'circle R 0.2'
+    call cone_wheel_profile(lam, cone)
+    call circle_rail_profile(rl, circ_l)
+    call circle_rail_profile(rr, circ_r)
     pl%inclination = 0
     call init_strip_contact(geo, cone, circ_l, pl, opt, error, rail_profile_right=circ_r)
     if (allocated(error)) error stop error%message
@@ -309,8 +294,8 @@ contains
     k0 = (scan%n + 1) / 2
 
     ytape = 0.5_wp * pl%back_to_back + 0.070_wp
-    cl = [0.5_wp * pl%gauge + sqrt(rl**2 - (rl - 0.014_wp)**2), -rl]
-    cr = [0.5_wp * pl%gauge + sqrt(rr**2 - (rr - 0.014_wp)**2), -rr]
+    cl = [circle_rail_centre_y(pl%gauge, rl), -rl]
+    cr = [circle_rail_centre_y(pl%gauge, rr), -rr]
     nw = [-lam, 1.0_wp] / sqrt(1 + lam**2)
     pw = [ytape, -pl%nominal_radius]
     a = -0.01_wp; b = 0.01_wp

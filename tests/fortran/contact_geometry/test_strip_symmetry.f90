@@ -11,7 +11,7 @@ program test_strip_symmetry
   use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, wheelset_contact
   use rd_contact_patch, only: wheel_contact_t
   use rd_rigid_contact, only: rigid_contact
-  use geometry_test_support, only: check, failures
+  use geometry_test_support, only: check, failures, cone_wheel_profile, circle_rail_profile, circle_rail_centre_y
   implicit none
   type(profile_t) :: wpf, rpf
   type(error_t), allocatable :: error
@@ -82,23 +82,14 @@ program test_strip_symmetry
 
   ! analytic: conical wheel (conicity lam) on a circular rail head R = 0.3 m, no inclination
   lam = 0.05_wp; rr = 0.3_wp
-  deallocate (wpf%y, wpf%z, rpf%y, rpf%z)
-  allocate (wpf%y(1301), wpf%z(1301), rpf%y(2001), rpf%z(2001))
-  do i = 1, 1301
-    wpf%y(i) = -0.070_wp + 1.0e-4_wp * (i - 1)
-    wpf%z(i) = -lam * wpf%y(i)
-  end do
-  do i = 1, 2001
-    rpf%y(i) = -0.1_wp + 1.0e-4_wp * (i - 1)
-    rpf%z(i) = sqrt(rr**2 - rpf%y(i)**2) - rr
-  end do
-  wpf%source = 'cone'; rpf%source = 'circle'
+  call cone_wheel_profile(lam, wpf)
+  call circle_rail_profile(rr, rpf)
   pl%inclination = 0
   call init_strip_contact(geo, wpf, rpf, pl, opt, error)
   if (allocated(error)) error stop error%message
   call rigid_contact(geo, 0.0_wp, 0.0_wp, z, phi, error, l, r, lowering=1.0e-6_wp)
   ! rail centre: gauge point 14 mm below the top at u = -sqrt(R^2 - (R - 0.014)^2)
-  yc = 0.5_wp * pl%gauge + sqrt(rr**2 - (rr - 0.014_wp)**2)
+  yc = circle_rail_centre_y(pl%gauge, rr)
   ytape = 0.5_wp * pl%back_to_back + 0.070_wp
   ! cone line Z = z - r0 + lam (Y - ytape) tangent to the circle centred (yc, -R)
   zref = pl%nominal_radius + lam * ytape - lam * yc - rr + rr * sqrt(1 + lam**2)
