@@ -126,6 +126,7 @@ module rd_scene
     procedure, private :: write_record
     procedure, private :: check_values
     procedure, private :: note_contact
+    procedure, private :: contact_notes
     procedure, private :: register_outputs
     procedure, private :: mbs_element_count
   end type scene_t
@@ -1031,18 +1032,9 @@ contains
   !> One line for the runner: time reached and output steps, then 'note: ' + each run note.
   function scene_completion_summary(self) result(text)
     class(scene_t), intent(in) :: self
-    character(len=:), allocatable :: text, notes
-    integer :: start, stop_at
+    character(len=:), allocatable :: text
     text = 'completed t = ' // trim(real_text(self%t)) // ' s, ' // trim(int_text(int(self%output_steps))) // &
-           ' output steps'
-    notes = self%run_notes()
-    start = 1
-    do while (start <= len(notes))
-      stop_at = index(notes(start:), new_line('a'))
-      if (stop_at == 0) stop_at = len(notes) - start + 2
-      text = text // new_line('a') // 'note: ' // notes(start:start + stop_at - 2)
-      start = start + stop_at
-    end do
+           ' output steps' // self%contact_notes(new_line('a') // 'note: ')
   end function scene_completion_summary
 
   !> The run's notes for readers, one per line ('' when there are none): wheels that lost
@@ -1051,6 +1043,16 @@ contains
   !> keeps them (/meta attribute 'notes', docs/output.md).
   function scene_run_notes(self) result(notes)
     class(scene_t), intent(in) :: self
+    character(len=:), allocatable :: notes
+    notes = self%contact_notes(new_line('a'))
+    notes = notes(2:)            ! '' stays ''
+  end function scene_run_notes
+
+  !> Each wheel that had no contact patch in some output samples, as `lead` followed by its
+  !> note (share of the samples, largest sampled vertical force).
+  function contact_notes(self, lead) result(notes)
+    class(scene_t), intent(in) :: self
+    character(len=*), intent(in) :: lead
     character(len=:), allocatable :: notes
     integer :: w, side
     character(len=16) :: pct, qmax
@@ -1062,14 +1064,13 @@ contains
         write (pct, '(f0.1)') 100.0_wp * real(self%samples_without_contact(side, w), wp) / &
                               real(self%contact_samples, wp)
         write (qmax, '(f0.1)') 1.0e-3_wp * self%max_sampled_q(side, w)
-        if (len(notes) > 0) notes = notes // new_line('a')
-        notes = notes // 'wheelset ' // trim(self%wheelset_names(w)) // ' ' // &
+        notes = notes // lead // 'wheelset ' // trim(self%wheelset_names(w)) // ' ' // &
                 trim(merge('left ', 'right', side == 1)) // ' wheel without contact in ' // trim(pct) // &
                 ' % of ' // trim(int_text(int(self%contact_samples))) // ' output samples (largest sampled Q ' // &
                 trim(qmax) // ' kN)'
       end do
     end do
-  end function scene_run_notes
+  end function contact_notes
 
   !> The deck's path with its extension replaced by `suffix` (e.g. '_track.h5').
   function scene_default_output_file(self, suffix) result(path)
