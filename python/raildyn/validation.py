@@ -1749,6 +1749,9 @@ def main(argv: list[str] | None = None) -> int:
         if case_name not in names:
             p.error(f"--results {item!r}: case {case_name!r} is not among the cases to run "
                     f"({', '.join(names)})")
+        if not CASES[case_name].run:
+            p.error(f"--results {item!r}: case {case_name!r} runs its own variants of its deck, "
+                    "it has no single results file to take")
         given[case_name] = Path(file)
     t0 = time.perf_counter()
     results = run_cases(names, a.out, a.exe, a.reuse, given)

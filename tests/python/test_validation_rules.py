@@ -399,6 +399,11 @@ def test_cli_evaluates_a_given_results_file(make_results_file, tmp_path, capsys)
         assert e.value.code == 2
     err = capsys.readouterr().err
     assert "expected CASE=FILE" in err and "not among the cases to run" in err
+    variants_only = [n for n, c in V.CASES.items() if not c.run]
+    assert variants_only
+    with pytest.raises(SystemExit) as e:
+        V.main(["--cases", variants_only[0], "--results", f"{variants_only[0]}={given}"])
+    assert e.value.code == 2 and "runs its own variants" in capsys.readouterr().err
 
 
 def test_manchester_case_reports_missing_bodies(make_results_file, tmp_path):
