@@ -7,6 +7,8 @@ A campaign is described by a TOML file (SI units, paths relative to the file)::
     output = "runs/bogie_speed_sweep"              # one folder per run below this
     executor = "local"                             # "local" (process pool) or "slurm"
     jobs = 2                                       # local: runs at once
+    raildyn = "../build/bin/raildyn"               # optional runner (an error if missing);
+                                                   # default $RAILDYN_EXE, $RAILDYN_BUILD_DIR/bin
 
     [sweep]                                        # Cartesian product of the lists
     "simulation.speed" = [20.0, 30.0, 40.0]        # group.parameter (groups that occur once)
@@ -59,6 +61,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from .executable import ExecutableNotFound, find_raildyn_executable
 from .results import Results
 
 KEY_RE = re.compile(r"^(?P<group>[a-z_]+)(\[(?P<name>[^\]]+)\])?\.(?P<param>[a-z_0-9]+)$")
@@ -192,16 +195,12 @@ def override_deck(base_deck: Path, params: dict[str, Any]) -> str:
 
 
 def find_raildyn(campaign: Campaign) -> Path:
-    candidates = [campaign.exe] if campaign.exe else []
-    build = os.environ.get("RAILDYN_BUILD_DIR")
-    if build:
-        candidates.append(Path(build) / "bin" / "raildyn")
-    candidates.append(Path(__file__).resolve().parents[2] / "build" / "bin" / "raildyn")
-    for c in candidates:
-        if c and c.exists():
-            return c.resolve()
-    raise CampaignError("raildyn executable not found: set 'raildyn' in the campaign file or "
-                        "RAILDYN_BUILD_DIR")
+    """The campaign's `raildyn` if set (an error if it is not an executable), else the
+    usual places (raildyn.executable)."""
+    try:
+        return find_raildyn_executable(campaign.exe, f"'raildyn' in {campaign.path}").resolve()
+    except ExecutableNotFound as exc:
+        raise CampaignError(str(exc)) from None
 
 
 def run_dir(campaign: Campaign, index: int) -> Path:

@@ -42,6 +42,7 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
+from .executable import ExecutableNotFound, find_raildyn_executable
 from .results import Results
 
 REPO = Path(__file__).resolve().parents[2]
@@ -459,24 +460,12 @@ def deck_sha256(deck: str | os.PathLike) -> str:
 
 
 def find_executable(exe: str | os.PathLike | None = None) -> Path:
-    """The raildyn runner: the explicit path if given (an error if it is not an executable:
-    never another runner in its place), else $RAILDYN_EXE, $RAILDYN_BUILD_DIR/bin/raildyn,
-    <repo>/build/bin/raildyn."""
-    if exe:
-        if Path(exe).is_file() and os.access(exe, os.X_OK):
-            return Path(exe)
-        raise CaseError(f"raildyn executable {exe} (--exe) is not an executable file")
-    cands = []
-    if os.environ.get("RAILDYN_EXE"):
-        cands.append(Path(os.environ["RAILDYN_EXE"]))
-    if os.environ.get("RAILDYN_BUILD_DIR"):
-        cands.append(Path(os.environ["RAILDYN_BUILD_DIR"]) / "bin" / "raildyn")
-    cands.append(REPO / "build" / "bin" / "raildyn")
-    for c in cands:
-        if c.is_file() and os.access(c, os.X_OK):
-            return c
-    raise CaseError("raildyn executable not found (tried " + ", ".join(map(str, cands)) +
-                    "); build it or pass --exe / set RAILDYN_BUILD_DIR")
+    """The raildyn runner (raildyn.executable: the explicit path or nothing, else
+    $RAILDYN_EXE, $RAILDYN_BUILD_DIR/bin/raildyn, <repo>/build/bin/raildyn)."""
+    try:
+        return find_raildyn_executable(exe, "--exe")
+    except ExecutableNotFound as exc:
+        raise CaseError(str(exc)) from None
 
 
 #: runner exit statuses (README): 3 = physics limit (derailment, lift-off): results readable

@@ -133,6 +133,20 @@ def test_bad_campaign_files(tmp_path, text, words):
     assert words in str(e.value) and "bad.toml" in str(e.value)
 
 
+def test_explicit_runner_must_exist(tmp_path, build_dir):
+    """A campaign's 'raildyn' that is not an executable is an error naming it and the file,
+    never replaced by another runner (raildyn.executable, shared with the validation harness)."""
+    (tmp_path / "base.nml").write_text(BASE)
+    path = tmp_path / "c.toml"
+    path.write_text(CAMPAIGN.format(extra='raildyn = "no/such/raildyn"'))
+    with pytest.raises(cp.CampaignError) as e:
+        cp.find_raildyn(cp.load_campaign(path))
+    assert "no/such/raildyn" in str(e.value) and "c.toml" in str(e.value)
+    assert "is not an executable file" in str(e.value)
+    path.write_text(CAMPAIGN.format(extra=f'raildyn = "{(build_dir / "bin" / "raildyn").resolve()}"'))
+    assert cp.find_raildyn(cp.load_campaign(path)) == (build_dir / "bin" / "raildyn").resolve()
+
+
 def test_runner_campaign_command(campaign_file):
     """`raildyn campaign run` hands over to the Python package and returns its status."""
     import subprocess
