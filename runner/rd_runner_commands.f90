@@ -192,8 +192,7 @@ contains
       write (error_unit, '(a)') ''
     end if
     if (allocated(error)) then
-      call scene%finalize_after_failure(error)
-      call report(error, status)
+      call report(error, status)   ! the scene has recorded the failure in the results file
       return
     end if
     call scene%finalize(error)

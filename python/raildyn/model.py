@@ -8,8 +8,10 @@
 
 Every C call returns a status; a non-zero status raises ``RaildynError(status, message)``
 with the handle's message from ``rd_error_message``. Handles are opaque int64 values
-(NEKO style), so any number of models may live in one process. All quantities SI
-(docs/conventions.md).
+(NEKO style), so any number of models may live in one process; a closed model's handle is
+never valid again. A failed ``initialize`` may be called again; after a failed ``advance``
+the run is over (its results file records the failure) and stepping raises again with that
+message (raildyn.h). All quantities SI (docs/conventions.md).
 """
 
 from __future__ import annotations

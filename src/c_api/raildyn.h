@@ -5,6 +5,22 @@
  * There is no module-global simulation state: any number of models may live in one
  * process. Every call returns an integer status (RD_OK = 0 on success); after a
  * failure the message is available per handle with rd_error_message().
+ *
+ * A host survives any call:
+ *  - Handles are unique for the life of the process: a destroyed handle is never issued
+ *    again, and every call with it (or with any value that no create call returned)
+ *    returns RD_ERR_HANDLE; rd_error_message() then says which of the two it is.
+ *  - A NULL pointer argument returns RD_ERR_INPUT (message on the handle, naming the
+ *    argument), never a crash. Array arguments may be NULL when their size is 0; output
+ *    buffers need a length >= 1. rd_create_*() with handle == NULL creates nothing.
+ *  - A failed rd_initialize() leaves the model as created (nothing built, a results file
+ *    it opened closed with the failure recorded): it may be called again.
+ *  - A failed rd_advance() ends the run: the results file is closed with /meta status
+ *    "failed: <message>", as `raildyn run` records it; rd_advance(), rd_set_input() and
+ *    rd_initialize() then return RD_ERR_HANDLE with that message (create a new model to
+ *    run again); queries still answer with the last valid state.
+ *  - Threads: the library takes no locks. The table of handles is process-wide and
+ *    HDF5 is usually built without thread safety: a threaded host serialises its calls.
  * All quantities are SI (docs/conventions.md); names of outputs are listed in
  * docs/output.md and by rd_output_name().
  */
@@ -72,7 +88,8 @@ int rd_set_input(rd_handle handle, const char *name, const double *values, int s
 int rd_finalize(rd_handle handle);
 
 /* Message of the last failure on this handle ("" if none); NUL-terminated, truncated
- * to message_len - 1 characters. */
+ * to message_len - 1 characters. For an invalid handle: RD_ERR_HANDLE and why it is
+ * invalid (destroyed, or never created). Reading it leaves the handle's message as is. */
 int rd_error_message(rd_handle handle, char *message, int message_len);
 
 /* The run's notes so far, one per line ("" if none): wheels without contact in some output
@@ -81,7 +98,8 @@ int rd_error_message(rd_handle handle, char *message, int message_len);
  * NUL-terminated, truncated to notes_len - 1 characters. */
 int rd_run_notes(rd_handle handle, char *notes, int notes_len);
 
-/* Free everything the handle owns (closes the output if still open). */
+/* Free everything the handle owns (closes the output if still open). The handle is
+ * invalid from then on (RD_ERR_HANDLE), also for a second rd_destroy(). */
 int rd_destroy(rd_handle handle);
 
 #ifdef __cplusplus

@@ -1,76 +1,74 @@
 !> C API of raildyn (src/c_api/raildyn.h): opaque handles over scene objects.
 !>
-!> NEKO style: a handle is the address of a heap-allocated `capi_model_t`; the
-!> only module-level data is the list of live handles, used to reject stale or
-!> foreign handles before they are dereferenced. No simulation state is global:
-!> any number of models may live in one process.
+!> NEKO style: a handle names a heap-allocated `capi_model_t`. Handles are ids from a
+!> counter that never goes back, looked up in the table of live models (rd_capi_registry):
+!> a destroyed handle stays invalid even when the next model gets the same address, and
+!> a stray integer is never dereferenced. No simulation state is global: any number of
+!> models may live in one process. Pointer arguments are taken as C pointers and checked:
+!> NULL gives RD_ERR_INPUT with a message instead of a crash.
 module rd_capi
   use, intrinsic :: iso_c_binding
   use rd_kinds, only: wp
-  use rd_error, only: error_t, RD_OK, RD_ERR_HANDLE
-  use rd_scene, only: scene_t, raildyn_version
+  use rd_error, only: error_t, RD_OK, RD_ERR_INPUT, RD_ERR_HANDLE
+  use rd_scene, only: raildyn_version
+  use rd_text, only: int_text
+  use rd_capi_registry, only: capi_model_t, register_model, find_model, forget_model, &
+                              handle_problem
   implicit none
   private
 
-  integer(c_int64_t), parameter :: magic = int(z'7261696C64796E', c_int64_t)  ! "raildyn"
-
-  type :: capi_model_t
-    integer(c_int64_t) :: magic = 0
-    type(scene_t) :: scene
-    character(len=:), allocatable :: message   !< last failure on this handle
-  end type capi_model_t
-
-  !> Live handles (addresses). Not simulation state: only which handles are valid.
-  integer(c_int64_t), allocatable :: live(:)
-  integer :: nlive = 0
+  interface
+    pure function c_strlen(text) bind(C, name='strlen') result(n)
+      import :: c_ptr, c_size_t
+      type(c_ptr), value :: text
+      integer(c_size_t) :: n
+    end function c_strlen
+  end interface
 
   character(kind=c_char, len=16), target :: version_c = c_null_char
+  !> What a NULL array argument of size 0 stands for.
+  real(c_double), target :: no_values(0)
 
 contains
 
   ! ------------------------------------------------------------------ helpers
-  function c_to_f_string(cstr) result(fstr)
-    character(kind=c_char), intent(in) :: cstr(*)
+  !> The NUL-terminated C string at `text` (not NULL).
+  function c_string(text) result(fstr)
+    type(c_ptr), intent(in) :: text
     character(len=:), allocatable :: fstr
-    integer :: n
-    n = 0
-    do while (cstr(n + 1) /= c_null_char)
-      n = n + 1
-    end do
-    allocate (character(len=n) :: fstr)
-    fstr = transfer(cstr(1:n), fstr)
-  end function c_to_f_string
-
-  subroutine f_to_c_string(fstr, cstr, clen)
-    character(len=*), intent(in) :: fstr
-    integer(c_int), intent(in) :: clen
-    character(kind=c_char), intent(out) :: cstr(*)
+    character(kind=c_char), pointer :: chars(:)
     integer :: i, n
-    if (clen <= 0) return
+    n = int(c_strlen(text))
+    call c_f_pointer(text, chars, [n])
+    allocate (character(len=n) :: fstr)
+    do i = 1, n
+      fstr(i:i) = chars(i)
+    end do
+  end function c_string
+
+  !> Copy `fstr` into the C buffer `buffer` of `clen` bytes, NUL-terminated and truncated.
+  subroutine copy_to_c(fstr, buffer, clen)
+    character(len=*), intent(in) :: fstr
+    type(c_ptr), intent(in) :: buffer
+    integer(c_int), intent(in) :: clen
+    character(kind=c_char), pointer :: chars(:)
+    integer :: i, n
+    call c_f_pointer(buffer, chars, [clen])
     n = min(len(fstr), int(clen) - 1)
     do i = 1, n
-      cstr(i) = fstr(i:i)
+      chars(i) = fstr(i:i)
     end do
-    cstr(n + 1) = c_null_char
-  end subroutine f_to_c_string
+    chars(n + 1) = c_null_char
+  end subroutine copy_to_c
 
   !> Resolve a handle to its model, or fail with RD_ERR_HANDLE.
   subroutine lookup(handle, model, status)
     integer(c_int64_t), intent(in) :: handle
     type(capi_model_t), pointer, intent(out) :: model
     integer(c_int), intent(out) :: status
-    type(c_ptr) :: p
-    model => null()
-    status = RD_ERR_HANDLE
-    if (handle == 0 .or. nlive == 0) return
-    if (.not. any(live(1:nlive) == handle)) return
-    p = transfer(handle, p)
-    call c_f_pointer(p, model)
-    if (model%magic /= magic) then
-      model => null()
-      return
-    end if
+    model => find_model(handle)
     status = RD_OK
+    if (.not. associated(model)) status = RD_ERR_HANDLE
   end subroutine lookup
 
   !> Record the outcome of a call on the handle and return its status.
@@ -86,22 +84,65 @@ contains
     end if
   end function conclude
 
-  function new_handle(model) result(handle)
-    type(capi_model_t), pointer, intent(in) :: model
-    integer(c_int64_t) :: handle
-    integer(c_int64_t), allocatable :: grown(:)
-    model%magic = magic
-    model%message = ''
-    handle = transfer(c_loc(model), handle)
-    if (.not. allocated(live)) allocate (live(16))
-    if (nlive == size(live)) then
-      allocate (grown(2 * size(live)))
-      grown(1:nlive) = live(1:nlive)
-      call move_alloc(grown, live)
+  !> Refuse a call's arguments: the message is kept on the handle.
+  function refuse(model, call_name, problem) result(status)
+    type(capi_model_t), intent(inout) :: model
+    character(len=*), intent(in) :: call_name, problem
+    integer(c_int) :: status
+    model%message = call_name // ': ' // problem
+    status = RD_ERR_INPUT
+  end function refuse
+
+  !> Fortran view of a C array argument of n doubles; NULL is accepted for n = 0 only.
+  !> `problem` is '' when the argument is usable.
+  subroutine c_doubles(values, n, name, view, problem)
+    type(c_ptr), intent(in) :: values
+    integer(c_int), intent(in) :: n
+    character(len=*), intent(in) :: name
+    real(c_double), pointer, intent(out) :: view(:)
+    character(len=:), allocatable, intent(out) :: problem
+    problem = ''
+    view => no_values
+    if (n < 0) then
+      problem = 'size must be >= 0'
+    else if (.not. c_associated(values)) then
+      if (n > 0) problem = name // ' is NULL; expected an array of ' // trim(int_text(n)) // ' doubles'
+    else
+      call c_f_pointer(values, view, [n])
     end if
-    nlive = nlive + 1
-    live(nlive) = handle
-  end function new_handle
+  end subroutine c_doubles
+
+  !> A C output buffer argument must be a pointer to at least one byte (the NUL).
+  function buffer_problem(buffer, buffer_len, name) result(problem)
+    type(c_ptr), intent(in) :: buffer
+    integer(c_int), intent(in) :: buffer_len
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: problem
+    problem = ''
+    if (.not. c_associated(buffer)) then
+      problem = name // ' is NULL; expected a buffer'
+    else if (buffer_len < 1) then
+      problem = name // '_len is ' // trim(int_text(buffer_len)) // '; expected >= 1'
+    end if
+  end function buffer_problem
+
+  !> Common part of the two create calls: a new model (and handle) unless `handle` is NULL.
+  function create(handle_out, call_name, text, what, model) result(status)
+    type(c_ptr), intent(in) :: handle_out, text
+    character(len=*), intent(in) :: call_name, what
+    type(capi_model_t), pointer, intent(out) :: model
+    integer(c_int) :: status
+    integer(c_int64_t), pointer :: handle
+    model => null()
+    if (.not. c_associated(handle_out)) then
+      status = RD_ERR_INPUT          ! nowhere to put a handle: nothing is created
+      return
+    end if
+    call c_f_pointer(handle_out, handle)
+    call register_model(model, handle)
+    status = RD_OK
+    if (.not. c_associated(text)) status = refuse(model, call_name, what // ' is NULL; expected a string')
+  end function create
 
   ! ------------------------------------------------------------------ API
   function rd_version() result(p) bind(C, name='rd_version')
@@ -113,36 +154,29 @@ contains
   end function rd_version
 
   function rd_create_from_file(path, handle) result(status) bind(C, name='rd_create_from_file')
-    character(kind=c_char), intent(in) :: path(*)
-    integer(c_int64_t), intent(out) :: handle
+    type(c_ptr), value :: path, handle
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
-    allocate (model)
-    handle = new_handle(model)
-    call model%scene%load_file(c_to_f_string(path), error)
+    status = create(handle, 'rd_create_from_file', path, 'deck_path', model)
+    if (status /= RD_OK) return
+    call model%scene%load_file(c_string(path), error)
     status = conclude(model, error)
   end function rd_create_from_file
 
   function rd_create_from_string(text, base_dir, handle) result(status) &
       bind(C, name='rd_create_from_string')
-    character(kind=c_char), intent(in) :: text(*)
-    type(c_ptr), value :: base_dir
-    integer(c_int64_t), intent(out) :: handle
+    type(c_ptr), value :: text, base_dir, handle
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
-    character(kind=c_char), pointer :: dir(:)
     character(len=:), allocatable :: fdir
+    status = create(handle, 'rd_create_from_string', text, 'deck_text', model)
+    if (status /= RD_OK) return
     fdir = '.'
-    if (c_associated(base_dir)) then
-      call c_f_pointer(base_dir, dir, [4096])
-      fdir = c_to_f_string(dir)
-      if (len(fdir) == 0) fdir = '.'
-    end if
-    allocate (model)
-    handle = new_handle(model)
-    call model%scene%load_string(c_to_f_string(text), fdir, error)
+    if (c_associated(base_dir)) fdir = c_string(base_dir)
+    if (len(fdir) == 0) fdir = '.'
+    call model%scene%load_string(c_string(text), fdir, error)
     status = conclude(model, error)
   end function rd_create_from_string
 
@@ -172,106 +206,154 @@ contains
 
   function rd_get_time(handle, time) result(status) bind(C, name='rd_get_time')
     integer(c_int64_t), value :: handle
-    real(c_double), intent(out) :: time
+    type(c_ptr), value :: time
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
-    time = 0
+    real(c_double), pointer :: t
     call lookup(handle, model, status)
     if (status /= RD_OK) return
-    time = model%scene%time()
+    if (.not. c_associated(time)) then
+      status = refuse(model, 'rd_get_time', 'time is NULL; expected a pointer to a double')
+      return
+    end if
+    call c_f_pointer(time, t)
+    t = model%scene%time()
   end function rd_get_time
 
-  function rd_get_state_size(handle, n) result(status) bind(C, name='rd_get_state_size')
+  function rd_get_state_size(handle, size) result(status) bind(C, name='rd_get_state_size')
     integer(c_int64_t), value :: handle
-    integer(c_int), intent(out) :: n
+    type(c_ptr), value :: size
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
-    n = 0
+    integer(c_int), pointer :: n
     call lookup(handle, model, status)
     if (status /= RD_OK) return
+    if (.not. c_associated(size)) then
+      status = refuse(model, 'rd_get_state_size', 'size is NULL; expected a pointer to an int')
+      return
+    end if
+    call c_f_pointer(size, n)
     n = int(model%scene%state_size(), c_int)
   end function rd_get_state_size
 
   function rd_get_state(handle, state, n) result(status) bind(C, name='rd_get_state')
     integer(c_int64_t), value :: handle
+    type(c_ptr), value :: state
     integer(c_int), value :: n
-    real(c_double), intent(out) :: state(n)
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
+    real(c_double), pointer :: values(:)
+    character(len=:), allocatable :: problem
     call lookup(handle, model, status)
     if (status /= RD_OK) return
-    call model%scene%get_state(state, error)
+    call c_doubles(state, n, 'state', values, problem)
+    if (len(problem) > 0) then
+      status = refuse(model, 'rd_get_state', problem)
+      return
+    end if
+    call model%scene%get_state(values, error)
     status = conclude(model, error)
   end function rd_get_state
 
   function rd_output_count(handle, count) result(status) bind(C, name='rd_output_count')
     integer(c_int64_t), value :: handle
-    integer(c_int), intent(out) :: count
+    type(c_ptr), value :: count
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
-    count = 0
+    integer(c_int), pointer :: n
     call lookup(handle, model, status)
     if (status /= RD_OK) return
-    count = int(model%scene%output_count(), c_int)
+    if (.not. c_associated(count)) then
+      status = refuse(model, 'rd_output_count', 'count is NULL; expected a pointer to an int')
+      return
+    end if
+    call c_f_pointer(count, n)
+    n = int(model%scene%output_count(), c_int)
   end function rd_output_count
 
   function rd_output_name(handle, index, name, name_len) result(status) bind(C, name='rd_output_name')
     integer(c_int64_t), value :: handle
     integer(c_int), value :: index, name_len
-    character(kind=c_char), intent(out) :: name(*)
+    type(c_ptr), value :: name
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
-    character(len=:), allocatable :: fname
+    character(len=:), allocatable :: fname, problem
     call lookup(handle, model, status)
     if (status /= RD_OK) return
+    problem = buffer_problem(name, name_len, 'name')
+    if (len(problem) > 0) then
+      status = refuse(model, 'rd_output_name', problem)
+      return
+    end if
     call model%scene%output_name(int(index), fname, error)
     status = conclude(model, error)
-    if (status == RD_OK) call f_to_c_string(fname, name, name_len)
+    if (status == RD_OK) call copy_to_c(fname, name, name_len)
   end function rd_output_name
 
-  function rd_output_size(handle, name, n) result(status) bind(C, name='rd_output_size')
+  function rd_output_size(handle, name, size) result(status) bind(C, name='rd_output_size')
     integer(c_int64_t), value :: handle
-    character(kind=c_char), intent(in) :: name(*)
-    integer(c_int), intent(out) :: n
+    type(c_ptr), value :: name, size
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
+    integer(c_int), pointer :: n
     integer :: fn
-    n = 0
     call lookup(handle, model, status)
     if (status /= RD_OK) return
-    call model%scene%output_size(c_to_f_string(name), fn, error)
+    if (.not. c_associated(name)) then
+      status = refuse(model, 'rd_output_size', 'name is NULL; expected an output name')
+      return
+    else if (.not. c_associated(size)) then
+      status = refuse(model, 'rd_output_size', 'size is NULL; expected a pointer to an int')
+      return
+    end if
+    call c_f_pointer(size, n)
+    call model%scene%output_size(c_string(name), fn, error)
     status = conclude(model, error)
     n = int(fn, c_int)
   end function rd_output_size
 
   function rd_get_output(handle, name, values, n) result(status) bind(C, name='rd_get_output')
     integer(c_int64_t), value :: handle
-    character(kind=c_char), intent(in) :: name(*)
+    type(c_ptr), value :: name, values
     integer(c_int), value :: n
-    real(c_double), intent(out) :: values(n)
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
+    real(c_double), pointer :: view(:)
+    character(len=:), allocatable :: problem
     call lookup(handle, model, status)
     if (status /= RD_OK) return
-    call model%scene%get_output(c_to_f_string(name), values, error)
+    call c_doubles(values, n, 'values', view, problem)
+    if (.not. c_associated(name)) problem = 'name is NULL; expected an output name'
+    if (len(problem) > 0) then
+      status = refuse(model, 'rd_get_output', problem)
+      return
+    end if
+    call model%scene%get_output(c_string(name), view, error)
     status = conclude(model, error)
   end function rd_get_output
 
   function rd_set_input(handle, name, values, n) result(status) bind(C, name='rd_set_input')
     integer(c_int64_t), value :: handle
-    character(kind=c_char), intent(in) :: name(*)
+    type(c_ptr), value :: name, values
     integer(c_int), value :: n
-    real(c_double), intent(in) :: values(n)
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
+    real(c_double), pointer :: view(:)
+    character(len=:), allocatable :: problem
     call lookup(handle, model, status)
     if (status /= RD_OK) return
-    call model%scene%set_input(c_to_f_string(name), values, error)
+    call c_doubles(values, n, 'values', view, problem)
+    if (.not. c_associated(name)) problem = 'name is NULL; expected an input name'
+    if (len(problem) > 0) then
+      status = refuse(model, 'rd_set_input', problem)
+      return
+    end if
+    call model%scene%set_input(c_string(name), real(view, wp), error)
     status = conclude(model, error)
   end function rd_set_input
 
@@ -286,30 +368,41 @@ contains
     status = conclude(model, error)
   end function rd_finalize
 
+  !> Does not touch the handle's message (reading it must not replace it).
   function rd_error_message(handle, message, message_len) result(status) &
       bind(C, name='rd_error_message')
     integer(c_int64_t), value :: handle
-    character(kind=c_char), intent(out) :: message(*)
+    type(c_ptr), value :: message
     integer(c_int), value :: message_len
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
-    call lookup(handle, model, status)
-    if (status /= RD_OK) then
-      call f_to_c_string('invalid raildyn handle', message, message_len)
+    if (len(buffer_problem(message, message_len, 'message')) > 0) then
+      status = RD_ERR_INPUT
       return
     end if
-    call f_to_c_string(model%message, message, message_len)
+    call lookup(handle, model, status)
+    if (status /= RD_OK) then
+      call copy_to_c(handle_problem(handle), message, message_len)
+      return
+    end if
+    call copy_to_c(model%message, message, message_len)
   end function rd_error_message
 
   function rd_run_notes(handle, notes, notes_len) result(status) bind(C, name='rd_run_notes')
     integer(c_int64_t), value :: handle
-    character(kind=c_char), intent(out) :: notes(*)
+    type(c_ptr), value :: notes
     integer(c_int), value :: notes_len
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
+    character(len=:), allocatable :: problem
     call lookup(handle, model, status)
     if (status /= RD_OK) return
-    call f_to_c_string(model%scene%run_notes(), notes, notes_len)
+    problem = buffer_problem(notes, notes_len, 'notes')
+    if (len(problem) > 0) then
+      status = refuse(model, 'rd_run_notes', problem)
+      return
+    end if
+    call copy_to_c(model%scene%run_notes(), notes, notes_len)
   end function rd_run_notes
 
   function rd_destroy(handle) result(status) bind(C, name='rd_destroy')
@@ -317,19 +410,11 @@ contains
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
-    integer :: i
     call lookup(handle, model, status)
     if (status /= RD_OK) return
     call model%scene%finalize(error)   ! closes the output if still open; errors are moot now
     call model%scene%destroy()
-    model%magic = 0
+    call forget_model(handle)
     deallocate (model)
-    do i = 1, nlive
-      if (live(i) == handle) then
-        live(i) = live(nlive)
-        nlive = nlive - 1
-        exit
-      end if
-    end do
   end function rd_destroy
 end module rd_capi

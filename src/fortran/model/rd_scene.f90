@@ -4,8 +4,12 @@
 !>   load_file / load_string -> build (validate everything, no file touched)
 !>   -> initialize (initial state, open the output, write step 0)
 !>   -> advance(t) ... -> finalize (close the output with the run's metadata).
-!> A failure at any stage returns an error; output written so far stays readable
-!> (finalize_after_failure records the failure in the file's metadata).
+!> A failure at any stage returns an error; output written so far stays readable.
+!> A failed initialize leaves the scene as loaded (nothing built, the results file closed
+!> with the failure recorded), so initialize may be called again. A failed advance ends
+!> the run: its results file is closed with `/meta status = 'failed: <message>'` here,
+!> for the runner and the C API alike, and later stepping calls are refused with that
+!> message; queries still answer with the last valid state.
 module rd_scene
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -91,6 +95,8 @@ module rd_scene
     type(h5_writer_t) :: writer
     integer, allocatable :: series(:)    !< writer series id of each output channel
     integer(int64) :: clock_start = 0
+    !> Set when a run failed (advance): the error's message; the run cannot go on.
+    character(len=:), allocatable :: failure
   contains
     procedure :: load_file => scene_load_file
     procedure :: load_string => scene_load_string
@@ -98,7 +104,6 @@ module rd_scene
     procedure :: initialize => scene_initialize
     procedure :: advance => scene_advance
     procedure :: finalize => scene_finalize
-    procedure :: finalize_after_failure => scene_finalize_after_failure
     procedure :: set_output_file => scene_set_output_file
     procedure :: time => scene_time
     procedure :: end_time => scene_end_time
@@ -163,14 +168,22 @@ contains
   subroutine scene_build(self, error)
     class(scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: error
-    real(wp), allocatable :: times(:), speeds(:)
-    real(wp) :: v
     if (.not. self%loaded) then
       call make_error(error, RD_ERR_HANDLE, 'scene: no deck loaded')
       return
     end if
     if (self%built) return
+    call build_models(self, error)
+    ! A half-built scene holds the models of the groups read before the error: drop them,
+    ! so that a retry builds from the deck again instead of allocating onto them.
+    if (allocated(error)) call reset_to_loaded(self)
+  end subroutine scene_build
 
+  subroutine build_models(self, error)
+    class(scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: error
+    real(wp), allocatable :: times(:), speeds(:)
+    real(wp) :: v
     call self%deck%get('simulation', 1, 't_end', self%t_end, error)
     if (allocated(error)) return
     call self%deck%get('simulation', 1, 'start_sigma', self%start_sigma, error)
@@ -215,7 +228,19 @@ contains
 
     call self%register_outputs()
     self%built = .true.
-  end subroutine scene_build
+  end subroutine build_models
+
+  !> Back to the state after load: the deck (and an output override) kept, every model
+  !> built from it freed. Used after a failed build or initialize.
+  subroutine reset_to_loaded(scene)
+    type(scene_t), intent(inout) :: scene
+    type(scene_t) :: loaded
+    call scene%destroy()
+    loaded%deck = scene%deck
+    loaded%loaded = scene%loaded
+    if (allocated(scene%output_override)) loaded%output_override = scene%output_override
+    scene = loaded
+  end subroutine reset_to_loaded
 
   subroutine register_outputs(self)
     class(scene_t), intent(inout) :: self
@@ -342,12 +367,29 @@ contains
     class(scene_t), intent(inout) :: self
     logical, intent(in) :: write_output
     type(error_t), allocatable, intent(out) :: error
-    character(len=:), allocatable :: path, title
-    integer :: i, flush_every
+    call refuse_after_failure(self, error)
+    if (allocated(error)) return
     if (self%initialized) then
       call make_error(error, RD_ERR_HANDLE, 'scene: already initialized')
       return
     end if
+    call start_run(self, write_output, error)
+    if (allocated(error)) then
+      ! The results file, if opened, says why it holds no run; the scene goes back to the
+      ! loaded deck, so that initialize can be called again (the same failure again, or a
+      ! run once its cause, e.g. an unwritable folder, is gone).
+      call record_failure_in_results(self, error)
+      call reset_to_loaded(self)
+    end if
+  end subroutine scene_initialize
+
+  !> Build, initial state, results file with step 0 (scene_initialize).
+  subroutine start_run(self, write_output, error)
+    class(scene_t), intent(inout) :: self
+    logical, intent(in) :: write_output
+    type(error_t), allocatable, intent(out) :: error
+    character(len=:), allocatable :: path, title
+    integer :: i, flush_every
     call self%build(error)
     if (allocated(error)) return
     call system_clock(self%clock_start)
@@ -399,15 +441,37 @@ contains
     call self%write_step(error)
     if (allocated(error)) return
     if (self%average%samples > 0) call self%average%start(self%outputs%packed())
-  end subroutine scene_initialize
+  end subroutine start_run
+
+  !> Close the results file (if open) with `status = 'failed: <message>'`: the one place
+  !> where a failure is recorded, for the runner and the C API alike. A failure to record
+  !> it is added to the error's message.
+  subroutine record_failure_in_results(self, error)
+    type(scene_t), intent(inout) :: self
+    type(error_t), intent(inout) :: error
+    type(error_t), allocatable :: close_error
+    call close_output(self, 'failed: ' // error%message, close_error)
+    if (allocated(close_error)) error%message = error%message // &
+      '; the results file could not record this failure: ' // close_error%message
+  end subroutine record_failure_in_results
+
+  !> After a failed run: stepping calls get the failure again, with what to do.
+  subroutine refuse_after_failure(self, error)
+    type(scene_t), intent(in) :: self
+    type(error_t), allocatable, intent(out) :: error
+    if (.not. allocated(self%failure)) return
+    call make_error(error, RD_ERR_HANDLE, 'scene: the run failed at t = ' // trim(real_text(self%t)) // &
+                    ' s (' // self%failure // '); the results file records the failure and the ' // &
+                    'run cannot go on: create a new model to run again')
+  end subroutine refuse_after_failure
 
   !> Advance to t_target, writing every output step passed on the way.
   subroutine scene_advance(self, t_target, error)
     class(scene_t), intent(inout) :: self
     real(wp), intent(in) :: t_target
     type(error_t), allocatable, intent(out) :: error
-    real(wp) :: t_out
-    real(wp), allocatable :: sample(:)
+    call refuse_after_failure(self, error)
+    if (allocated(error)) return
     if (.not. self%initialized) then
       call make_error(error, RD_ERR_HANDLE, 'scene: advance before initialize')
       return
@@ -416,6 +480,22 @@ contains
       call make_error(error, RD_ERR_INPUT, 'advance: target time must be finite and >= the current time')
       return
     end if
+    call step_to(self, t_target, error)
+    if (allocated(error)) then
+      ! The run ends here (the integrator's state is invalid or a record could not be
+      ! written): the file says so, and the scene refuses to step on.
+      self%failure = error%message
+      call record_failure_in_results(self, error)
+    end if
+  end subroutine scene_advance
+
+  !> Integrate to t_target, writing every output step passed on the way (scene_advance).
+  subroutine step_to(self, t_target, error)
+    class(scene_t), intent(inout) :: self
+    real(wp), intent(in) :: t_target
+    type(error_t), allocatable, intent(out) :: error
+    real(wp) :: t_out
+    real(wp), allocatable :: sample(:)
     do
       if (self%average%samples == 0) then
         t_out = real(self%output_steps, wp) * self%interval
@@ -465,7 +545,7 @@ contains
       end if
       self%t = t_stop
     end subroutine integrate_to
-  end subroutine scene_advance
+  end subroutine step_to
 
   !> Record the state at the current time.
   subroutine write_step(self, error)
@@ -821,15 +901,6 @@ contains
     call close_output(self, 'completed', error)
   end subroutine scene_finalize
 
-  !> Record a failure in the output's metadata and close it; the steps written so far
-  !> stay readable. The original error is returned unchanged to the caller.
-  subroutine scene_finalize_after_failure(self, failure)
-    class(scene_t), intent(inout) :: self
-    type(error_t), intent(in) :: failure
-    type(error_t), allocatable :: error
-    call close_output(self, 'failed: ' // failure%message, error)
-  end subroutine scene_finalize_after_failure
-
   subroutine close_output(self, status, error)
     type(scene_t), intent(inout) :: self
     character(len=*), intent(in) :: status
@@ -972,6 +1043,8 @@ contains
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: values(:)
     type(error_t), allocatable, intent(out) :: error
+    call refuse_after_failure(self, error)
+    if (allocated(error)) return
     if (.not. self%initialized) then
       call make_error(error, RD_ERR_HANDLE, 'set_input before initialize')
       return

@@ -1,0 +1,263 @@
+"""A host program must survive any call of the C API (issue 13, items 9-11): calls after
+failures, destroyed and foreign handles, NULL arguments, and failed runs recorded in their
+results file exactly as the runner records them. Category: pytest -m capi_misuse.
+
+Sequences that crashed the host before (a Fortran runtime error, a segfault) run in a child
+process, so that a regression fails its test instead of killing the test session."""
+import ctypes
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+import raildyn
+from raildyn.model import load_library
+
+pytestmark = pytest.mark.capi_misuse
+
+REPO = Path(__file__).resolve().parents[2]
+
+RD_OK, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_IO, RD_ERR_HANDLE = 0, 1, 2, 4, 6
+
+#: a damped mass on a spring, gravity on: the static preload solve sets the spring's preload
+MASS = """&simulation title = 'mass', t_end = 2.0, speed = 10.0, gravity = 9.81,
+            equilibrium = '{equilibrium}' /
+&solver method = 'bdf', rtol = 1e-9, atol = 1e-12{solver} /
+&output interval = 0.01{output} /
+&body name = 'mass', mass = 1000.0, ixx = 10.0, iyy = 10.0, izz = 10.0,
+      position = 0.0, 0.0, 1.0, velocity = 0.0, 0.0, 0.1, frozen = 'x', 'y', 'yaw', 'roll', 'pitch' /
+{element}"""
+SPRING = """&element name = 'spring', type = 'spring_damper', body1 = 'ground', body2 = 'mass',
+      point1 = 0.0, 0.0, 1.0, stiffness = 0.0, 0.0, 4.0e5, damping = 0.0, 0.0, 400.0 /
+"""
+
+
+def mass_deck(equilibrium="preload", solver="", output="", element=SPRING):
+    return MASS.format(equilibrium=equilibrium, solver=solver, output=output, element=element)
+
+
+#: for code run by run_isolated: [status, message] of each call (0, '' when it succeeded)
+OUTCOMES = """
+import json, raildyn
+def outcomes(*calls):
+    seen = []
+    for call in calls:
+        try:
+            call()
+            seen.append([0, ''])
+        except raildyn.RaildynError as e:
+            seen.append([e.status, e.message])
+    return seen
+"""
+
+
+def run_isolated(code: str) -> dict:
+    """Run `code` (after OUTCOMES) in a fresh Python with the package importable; it prints
+    one JSON object."""
+    env = dict(os.environ, PYTHONPATH=str(REPO / "python"))
+    proc = subprocess.run([sys.executable, "-c", OUTCOMES + textwrap.dedent(code)], env=env,
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, f"host process died (status {proc.returncode}):\n{proc.stderr}"
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+# ------------------------------------------------------------------ item 9
+def test_initialize_again_after_unwritable_results_path(tmp_path):
+    """A failed initialize leaves the model as loaded: calling it again fails the same way
+    (no 'already allocated' crash), and once the folder exists it runs exactly like a fresh
+    model of the same deck."""
+    deck = tmp_path / "m.nml"
+    deck.write_text(mass_deck(output=", file = 'missing/r.h5'"))
+    result = run_isolated(f"""
+        m = raildyn.Model.from_file({str(deck)!r})
+        print(json.dumps(outcomes(*[lambda: m.initialize(write_output=True)] * 3)))
+    """)
+    assert [s for s, _ in result] == [RD_ERR_IO] * 3, result
+    assert len({m for _, m in result}) == 1 and "missing/r.h5" in result[0][1], result
+
+    with raildyn.Model.from_file(deck) as retried, raildyn.Model.from_file(deck) as fresh:
+        with pytest.raises(raildyn.RaildynError) as e:
+            retried.initialize(write_output=True)
+        assert e.value.status == RD_ERR_IO
+        (tmp_path / "missing").mkdir()
+        retried.initialize(write_output=True)
+        retried.advance(0.5)
+        fresh.initialize(write_output=False)
+        fresh.advance(0.5)
+        assert retried.time == fresh.time == pytest.approx(0.5)
+        assert np.array_equal(retried.state(), fresh.state())
+        retried.finalize()
+    r = raildyn.Results(tmp_path / "missing" / "r.h5")
+    assert r.metadata["status"] == "completed" and len(r.time) == 51
+
+
+def test_initialize_again_after_failed_equilibrium(tmp_path):
+    """A static preload solve that cannot succeed (no element to carry the mass): every
+    initialize returns the same input error, and the other calls answer with a status."""
+    result = run_isolated(f"""
+        m = raildyn.Model.from_string({mass_deck(element='')!r})
+        out = outcomes(*[lambda: m.initialize(write_output=False)] * 3, lambda: m.advance(1.0))
+        out.append([0, str(m.time)])
+        m.close()
+        print(json.dumps(out))
+    """)
+    statuses = [s for s, _ in result]
+    assert statuses[:3] == [RD_ERR_INPUT] * 3, result
+    assert "preload" in result[0][1] and result[0][1] == result[1][1] == result[2][1]
+    assert statuses[3] == RD_ERR_HANDLE and "before initialize" in result[3][1]
+    assert result[4] == [0, "0.0"]
+
+
+# ------------------------------------------------------------------ item 10
+def test_destroyed_handle_stays_invalid():
+    """Create and destroy many models: every handle is new, and a destroyed handle is
+    refused (with a message saying so) even when the next model reuses the memory; destroying
+    it again does not destroy the live model."""
+    lib = load_library()
+    deck = b"&simulation t_end = 1.0, speed = 10.0 /\n&segment type = 'straight', length = 100.0 /\n"
+    seen = []
+    for _ in range(50):
+        h = ctypes.c_int64()
+        assert lib.rd_create_from_string(deck, None, ctypes.byref(h)) == RD_OK
+        seen.append(h.value)
+        assert lib.rd_destroy(h) == RD_OK
+    assert len(set(seen)) == len(seen) and 0 not in seen
+    live = ctypes.c_int64()
+    assert lib.rd_create_from_string(deck, None, ctypes.byref(live)) == RD_OK
+    assert live.value not in seen
+    t = ctypes.c_double()
+    buffer = ctypes.create_string_buffer(512)
+    for old in seen:
+        assert lib.rd_get_time(old, ctypes.byref(t)) == RD_ERR_HANDLE
+        assert lib.rd_initialize(old, 0) == RD_ERR_HANDLE
+        assert lib.rd_destroy(old) == RD_ERR_HANDLE
+        assert lib.rd_error_message(old, buffer, 512) == RD_ERR_HANDLE
+        assert b"destroyed" in buffer.value
+    for never in (0, -1, 2**62):
+        assert lib.rd_get_time(never, ctypes.byref(t)) == RD_ERR_HANDLE
+        assert lib.rd_error_message(never, buffer, 512) == RD_ERR_HANDLE
+        assert b"no model was created" in buffer.value
+    # the live model is untouched by all of that
+    assert lib.rd_initialize(live, 0) == RD_OK
+    assert lib.rd_advance(live, 1.0) == RD_OK
+    assert lib.rd_get_time(live, ctypes.byref(t)) == RD_OK and t.value == pytest.approx(1.0)
+    assert lib.rd_destroy(live) == RD_OK
+    assert lib.rd_destroy(live) == RD_ERR_HANDLE
+
+
+def test_null_arguments_return_a_status():
+    """Every pointer argument of raildyn.h given as NULL: an input error with a message
+    naming the argument, never a segfault; NULL arrays are accepted for size 0 only."""
+    result = run_isolated("""
+        import ctypes
+        from raildyn.model import load_library
+        lib = load_library()
+        deck = b"&simulation t_end = 1.0, speed = 10.0 /\\n&segment type = 'straight', length = 100.0 /\\n"
+        out = {}
+        def message(h):
+            buf = ctypes.create_string_buffer(512)
+            lib.rd_error_message(h, buf, 512)
+            return buf.value.decode()
+        out['create_file_handle'] = [lib.rd_create_from_file(b'x.nml', None), '']
+        out['create_string_handle'] = [lib.rd_create_from_string(deck, None, None), '']
+        h = ctypes.c_int64()
+        s = lib.rd_create_from_file(None, ctypes.byref(h))
+        out['create_file_path'] = [s, message(h)]
+        lib.rd_destroy(h)
+        s = lib.rd_create_from_string(None, None, ctypes.byref(h))
+        out['create_string_text'] = [s, message(h)]
+        lib.rd_destroy(h)
+        assert lib.rd_create_from_string(deck, None, ctypes.byref(h)) == 0
+        assert lib.rd_initialize(h, 0) == 0
+        calls = {
+            'get_time': lambda: lib.rd_get_time(h, None),
+            'get_state_size': lambda: lib.rd_get_state_size(h, None),
+            'output_count': lambda: lib.rd_output_count(h, None),
+            'output_name': lambda: lib.rd_output_name(h, 1, None, 64),
+            'output_name_len': lambda: lib.rd_output_name(h, 1, ctypes.create_string_buffer(8), 0),
+            'output_size_name': lambda: lib.rd_output_size(h, None, ctypes.byref(ctypes.c_int())),
+            'output_size_size': lambda: lib.rd_output_size(h, b'vehicle/speed', None),
+            'get_output_name': lambda: lib.rd_get_output(h, None, None, 0),
+            'get_output_values': lambda: lib.rd_get_output(h, b'vehicle/speed', None, 1),
+            'set_input_name': lambda: lib.rd_set_input(h, None, None, 0),
+            'set_input_values': lambda: lib.rd_set_input(h, b'speed', None, 1),
+            'get_state_negative': lambda: lib.rd_get_state(h, None, -1),
+            'run_notes': lambda: lib.rd_run_notes(h, None, 64),
+        }
+        for name, call in calls.items():
+            out[name] = [call(), message(h)]
+        # reading the message with a NULL buffer fails without replacing the message
+        out['error_message'] = [lib.rd_error_message(h, None, 64), message(h)]
+        # a NULL array of size 0 is an empty array: the track-only scene has no state
+        out['get_state_empty'] = [lib.rd_get_state(h, None, 0), '']
+        t = ctypes.c_double()
+        out['still_works'] = [lib.rd_advance(h, 0.5) or lib.rd_get_time(h, ctypes.byref(t)), str(t.value)]
+        lib.rd_destroy(h)
+        print(json.dumps(out))
+    """)
+    words = {"create_file_path": "deck_path", "create_string_text": "deck_text", "get_time": "time",
+             "get_state_size": "size", "output_count": "count", "output_name": "name",
+             "output_name_len": "name_len", "output_size_name": "name", "output_size_size": "size",
+             "get_output_name": "name", "get_output_values": "values", "set_input_name": "name",
+             "set_input_values": "values", "get_state_negative": "size", "run_notes": "notes"}
+    for name, word in words.items():
+        status, message = result[name]
+        assert status == RD_ERR_INPUT, (name, result[name])
+        assert word in message and ("NULL" in message or ">=" in message), (name, message)
+    assert result["create_file_handle"][0] == RD_ERR_INPUT
+    assert result["create_string_handle"][0] == RD_ERR_INPUT
+    assert result["error_message"] == [RD_ERR_INPUT, result["run_notes"][1]]
+    assert result["get_state_empty"][0] == RD_OK
+    assert result["still_works"] == [RD_OK, "0.5"]
+
+
+def test_header_documents_null_and_handles():
+    header = (REPO / "src" / "c_api" / "raildyn.h").read_text()
+    assert "NULL" in header and "RD_ERR_INPUT" in header
+    assert "destroyed" in header
+
+
+# ------------------------------------------------------------------ item 11
+def test_failed_run_recorded_like_the_runner(tmp_path, raildyn_exe):
+    """A run that fails through the C API: the results file says 'failed: <message>' with
+    the message the call returned, the same status and rows as `raildyn run` writes for the
+    deck; later stepping calls are refused with a message that names no call the C API does
+    not have, queries still answer."""
+    deck = tmp_path / "f.nml"
+    deck.write_text(mass_deck(equilibrium="none", solver=", max_num_steps = 20",
+                              output=", interval = 0.5, file = 'api.h5'"))
+    with raildyn.Model.from_file(deck) as m:
+        m.initialize()
+        with pytest.raises(raildyn.RaildynError) as e:
+            m.advance(2.0)
+        failure = e.value
+        assert failure.status == RD_ERR_RUNTIME
+        t_failed = m.time
+        assert 0 < t_failed < 0.5
+        for call in (lambda: m.advance(2.0), lambda: m.set_input("speed", 5.0),
+                     lambda: m.initialize()):
+            with pytest.raises(raildyn.RaildynError) as again:
+                call()
+            assert again.value.status == RD_ERR_HANDLE
+            assert failure.message in again.value.message
+            assert "reinit" not in again.value.message and "new model" in again.value.message
+        assert m.output("vehicle/distance")[0] == pytest.approx(10.0 * t_failed)
+        m.finalize()            # nothing left to close: the failure is already recorded
+    proc = subprocess.run([str(raildyn_exe), "run", str(deck), "-o", str(tmp_path / "runner.h5")],
+                          capture_output=True, text=True)
+    assert proc.returncode == RD_ERR_RUNTIME
+    assert proc.stderr.strip() == f"raildyn: error: {failure.message}"
+    with h5py.File(tmp_path / "api.h5") as api, h5py.File(tmp_path / "runner.h5") as runner:
+        status = api["meta"].attrs["status"].decode()
+        assert status == f"failed: {failure.message}"
+        assert status == runner["meta"].attrs["status"].decode()
+        assert api["meta"].attrs["end_time"] == runner["meta"].attrs["end_time"] == t_failed
+        assert np.array_equal(api["bodies/mass/position_track"][:],
+                              runner["bodies/mass/position_track"][:])
+
