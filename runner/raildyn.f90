@@ -1,7 +1,7 @@
 !> The `raildyn` command: one executable, one sub-command per task.
 !>
 !>   raildyn run DECK [-o OUT.h5] [--progress|--quiet]   run a scene
-!>   raildyn check DECK                                   validate a deck (and build the scene)
+!>   raildyn check DECK [--json]                          validate a deck (and build the scene)
 !>   raildyn track DECK [-o OUT.h5] [--step DS] [--csv OUT.csv] [--plot OUT.png]
 !>   raildyn profile-scan ...                             wheel-rail contact characteristics
 !>   raildyn hertz ... / raildyn creep ...                contact calculators

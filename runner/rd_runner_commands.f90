@@ -11,6 +11,9 @@ module rd_runner_commands
   use rd_cmd_profile_scan, only: run_profile_scan_command
   use rd_track_export, only: export_track
   use rd_build_info, only: python_command, shell_quote
+  use rd_json, only: json_string
+  use rd_deck, only: deck_string_t
+  use rd_text, only: int_text
   implicit none
   private
   public :: run_command
@@ -23,7 +26,7 @@ module rd_runner_commands
   end interface
 
   character(len=*), parameter :: usage = &
-    'usage: raildyn run DECK [-o OUT.h5] [--progress|--quiet] | check DECK | ' // &
+    'usage: raildyn run DECK [-o OUT.h5] [--progress|--quiet] | check DECK [--json] | ' // &
     'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | ' // &
     'campaign run|summary|decks CAMPAIGN.toml | hertz ... | creep ... | version | help'
 
@@ -129,25 +132,55 @@ contains
     if (len(deck) == 0) call usage_error('no deck given', status)
   end subroutine parse_deck_args
 
+  !> `check DECK [--json]`: build the scene. --json prints one JSON object on stdout
+  !> instead of the ok line (errors still go to stderr too): deck, status ('ok' or
+  !> 'error'), exit_code, message, version and input_files, every file the deck reads
+  !> (rd_deck input_files; listed when the deck could be read, even if the build fails),
+  !> for tools that must know what a run depends on (the campaigns' cache).
   subroutine command_check(args, status)
     character(len=*), intent(in) :: args(:)
     integer, intent(out) :: status
     character(len=:), allocatable :: deck, output, csv, plot
     real(wp) :: step
     integer :: progress
+    logical :: json
     type(scene_t) :: scene
     type(error_t), allocatable :: error
-    call parse_deck_args(args, deck, output, step, csv, plot, progress, status)
+    json = any(args == '--json')
+    call parse_deck_args(pack(args, args /= '--json'), deck, output, step, csv, plot, progress, status)
     if (status /= 0) return
     call scene%load_file(deck, error)
     if (.not. allocated(error)) call scene%build(error)
-    if (allocated(error)) then
-      call report(error, status)
-      return
-    end if
-    write (output_unit, '(3a)') 'raildyn: ', deck, ': ok (' // scene%summary() // ')'
     status = 0
+    if (allocated(error)) call report(error, status)
+    if (json) then
+      call print_check_json(deck, scene, error, status)
+    else if (status == 0) then
+      write (output_unit, '(3a)') 'raildyn: ', deck, ': ok (' // scene%summary() // ')'
+    end if
   end subroutine command_check
+
+  subroutine print_check_json(deck, scene, error, status)
+    character(len=*), intent(in) :: deck
+    type(scene_t), intent(in) :: scene
+    type(error_t), allocatable, intent(in) :: error
+    integer, intent(in) :: status
+    type(deck_string_t), allocatable :: files(:)
+    character(len=:), allocatable :: text, message
+    integer :: i
+    message = ''
+    if (allocated(error)) message = error%message
+    files = scene%input_files()
+    text = '{"deck": ' // json_string(deck) // ', "status": ' // &
+           json_string(trim(merge('ok   ', 'error', status == 0))) // ', "exit_code": ' // trim(int_text(status)) // &
+           ', "message": ' // json_string(message) // ', "version": ' // json_string(raildyn_version) // &
+           ', "input_files": ['
+    do i = 1, size(files)
+      if (i > 1) text = text // ', '
+      text = text // json_string(files(i)%s)
+    end do
+    write (output_unit, '(a)') text // ']}'
+  end subroutine print_check_json
 
   subroutine command_run(args, status)
     character(len=*), intent(in) :: args(:)

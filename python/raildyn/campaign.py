@@ -25,8 +25,13 @@ A campaign is described by a TOML file (SI units, paths relative to the file)::
 
 Each run gets a folder with `deck.nml` (an ``&include`` of the base deck followed by the
 overriding groups, so the run's deck says exactly what differs), `results.h5`, `log.txt` and
-`status.json`. Runs already completed with the same deck are not run again (a campaign can
-be resumed after an interruption). ``summary.csv`` collects parameters, status and metrics.
+`status.json`. A run that completed before is not run again if nothing it depends on changed:
+every file its deck reads (the deck, included decks at any depth, profile, irregularity and
+survey files: the runner lists them, ``raildyn check --json``), and the runner itself (version
+and executable). So a campaign can be resumed after an interruption (Ctrl-C stops it with
+"interrupted; rerun to resume", exit status 130); a completed run whose results file is
+damaged runs again. ``summary.csv`` collects parameters, status and metrics; a failed run's
+row says why (``error``) and at which simulated time (``failed_at``, s).
 
 Command line::
 
@@ -43,6 +48,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import difflib
 import hashlib
 import itertools
 import json
@@ -50,8 +56,10 @@ import math
 import os
 import re
 import shlex
+import signal
 import subprocess
 import sys
+import threading
 import time
 import tomllib
 from concurrent.futures import ThreadPoolExecutor
@@ -221,37 +229,132 @@ def write_decks(campaign: Campaign) -> list[tuple[int, dict[str, Any], Path]]:
     return out
 
 
-def _deck_hash(run: Path) -> str:
-    """Hash of the run's deck and every file it includes (so an edited base deck reruns)."""
+def _file_sha256(path: Path) -> str:
     h = hashlib.sha256()
-    h.update((run / "deck.nml").read_bytes())
-    text = (run / "deck.nml").read_text()
-    for m in re.finditer(r"file\s*=\s*'([^']*)'", text):
-        p = Path(m.group(1))
-        if p.exists():
-            h.update(p.read_bytes())
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
     return h.hexdigest()
 
 
-def run_one(exe: Path, run: Path) -> dict[str, Any]:
-    """Run one deck unless it completed before with the same inputs; returns its status."""
+def runner_identity(exe: Path) -> str:
+    """The runner's version and the hash of its executable (the physics is linked into it):
+    a rebuilt runner makes every run stale."""
+    version = subprocess.run([str(exe), "version"], capture_output=True, text=True).stdout.strip()
+    return f"{version} sha256:{_file_sha256(exe)}"
+
+
+def run_inputs(exe: Path, run: Path) -> list[Path] | None:
+    """Every file the run's deck reads, as the runner lists them (``raildyn check --json``:
+    the deck, its includes at any depth, profile, irregularity and survey files); None when
+    the deck does not check (the run then runs and reports why)."""
+    proc = subprocess.run([str(exe), "check", "deck.nml", "--json"], cwd=run,
+                          capture_output=True, text=True)
+    try:
+        answer = json.loads(proc.stdout)
+    except json.JSONDecodeError:
+        return None
+    if answer.get("status") != "ok":
+        return None
+    return [run / name for name in answer["input_files"]]
+
+
+def inputs_digest(runner: str, exe: Path, run: Path) -> str | None:
+    """Hash of the runner's identity and of the name and bytes of every file the run reads;
+    None when they cannot all be read (then nothing is reused)."""
+    files = run_inputs(exe, run)
+    if files is None:
+        return None
+    h = hashlib.sha256(runner.encode() + b"\0")
+    try:
+        for path in files:
+            h.update(str(path.resolve()).encode() + b"\0" + _file_sha256(path).encode())
+    except OSError:
+        return None
+    return h.hexdigest()
+
+
+def _completed_results(path: Path) -> bool:
+    """The results file opens and says its run completed (a damaged file is rerun)."""
+    try:
+        with Results(path) as r:
+            return r.metadata.get("status") == "completed"
+    except (OSError, ValueError, KeyError):
+        return False
+
+
+#: Set when the campaign is interrupted: runs in flight are stopped and not recorded.
+_interrupted = threading.Event()
+_running: set[subprocess.Popen] = set()
+_running_lock = threading.Lock()
+
+
+def _run_runner(exe: Path, run: Path) -> int | None:
+    """`raildyn run` in the run folder; None when the campaign was interrupted (Ctrl-C
+    reaches the runs too: one killed by SIGINT is not a failed run)."""
+    if _interrupted.is_set():
+        return None
+    with open(run / "log.txt", "w") as log:
+        proc = subprocess.Popen([str(exe), "run", "deck.nml", "-o", "results.h5", "--quiet"],
+                                cwd=run, stdout=log, stderr=subprocess.STDOUT)
+        with _running_lock:
+            _running.add(proc)
+        try:
+            code = proc.wait()
+        finally:
+            with _running_lock:
+                _running.discard(proc)
+    return None if _interrupted.is_set() or code == -signal.SIGINT else code
+
+
+def _stop_running_runs() -> None:
+    _interrupted.set()
+    with _running_lock:
+        for proc in _running:
+            proc.send_signal(signal.SIGINT)
+
+
+def _failure(run: Path) -> tuple[str, float | str]:
+    """Why and when a run failed: the runner's error line, and the simulated time its
+    results file reached (from /meta: '' when the run failed before writing one)."""
+    lines = (run / "log.txt").read_text(errors="replace").strip().splitlines()
+    message = lines[-1].removeprefix("raildyn: error: ") if lines else ""
+    when: float | str = ""
+    try:
+        with Results(run / "results.h5") as r:
+            meta = r.metadata
+            if str(meta.get("status", "")).startswith("failed: "):
+                message = meta["status"].removeprefix("failed: ")
+                when = float(meta.get("end_time", ""))
+    except (OSError, ValueError, KeyError):
+        pass
+    return message, when
+
+
+def run_one(exe: Path, run: Path, runner: str | None = None) -> dict[str, Any] | None:
+    """Run one deck unless it completed before with the same inputs (run_inputs) and runner
+    (runner_identity); returns its status, None when the campaign was interrupted."""
     status_file = run / "status.json"
-    digest = _deck_hash(run)
-    if status_file.exists():
-        old = json.loads(status_file.read_text())
-        if old.get("exit_code") == 0 and old.get("deck_sha256") == digest and \
-                (run / "results.h5").exists():
+    runner = runner or runner_identity(exe)
+    digest = inputs_digest(runner, exe, run)
+    if digest is not None and status_file.exists():
+        try:
+            old = json.loads(status_file.read_text())
+        except json.JSONDecodeError:
+            old = {}
+        if old.get("exit_code") == 0 and old.get("inputs_sha256") == digest and \
+                _completed_results(run / "results.h5"):
             old["reused"] = True
             return old
+    status_file.unlink(missing_ok=True)
     t0 = time.time()
-    with open(run / "log.txt", "w") as log:
-        proc = subprocess.run([str(exe), "run", "deck.nml", "-o", "results.h5", "--quiet"],
-                              cwd=run, stdout=log, stderr=subprocess.STDOUT)
-    status = {"exit_code": proc.returncode, "wall_time": time.time() - t0,
-              "deck_sha256": digest, "reused": False}
-    if proc.returncode != 0:
-        status["error"] = (run / "log.txt").read_text().strip().splitlines()[-1:] or [""]
-        status["error"] = status["error"][0]
+    code = _run_runner(exe, run)
+    if code is None:
+        return None
+    status = {"exit_code": code, "wall_time": time.time() - t0,
+              "inputs_sha256": digest, "runner": runner, "reused": False}
+    if code != 0:
+        status["error"], status["failed_at"] = _failure(run)
     status_file.write_text(json.dumps(status, indent=1))
     return status
 
@@ -299,36 +402,65 @@ def growth_rate(t: np.ndarray, y: np.ndarray) -> float:
 
 
 def metrics_of(campaign: Campaign, run: Path) -> dict[str, float]:
-    res = Results(run / "results.h5")
+    """The campaign's metrics of one completed run; a results file that cannot be read or a
+    metric whose channel it does not hold is a CampaignError naming them."""
+    path = run / "results.h5"
+    try:
+        res = Results(path)
+    except (OSError, ValueError) as exc:
+        raise CampaignError(f"{path}: cannot read the results file ({exc}); delete it and "
+                            "rerun the campaign to run it again") from None
     out = {}
-    for m in campaign.metrics:
-        data = res.get(m.channel)
-        if data.ndim > 1:
-            data = data[:, 0]
-        out[m.name] = reduce_channel(res.time, data, m.reduce, m.window)
+    with res:
+        for m in campaign.metrics:
+            try:
+                data = res.get(m.channel)
+            except KeyError:
+                close = difflib.get_close_matches(m.channel.split(":")[0], res.channels(), n=3)
+                raise CampaignError(
+                    f"{campaign.path}: metric '{m.name}': channel '{m.channel}' is not in "
+                    f"{path}" + (f"; close names: {', '.join(close)}" if close else "")) from None
+            if data.ndim > 1:
+                data = data[:, 0]
+            out[m.name] = reduce_channel(res.time, data, m.reduce, m.window)
     return out
 
 
+def _read_status(run: Path) -> dict[str, Any]:
+    try:
+        return json.loads((run / "status.json").read_text())
+    except (OSError, json.JSONDecodeError):
+        return {}
+
+
 def write_summary(campaign: Campaign) -> Path:
+    """summary.csv: one row per run (parameters, exit code, wall time, error and failure
+    time of a failed run, metrics). Metrics that cannot be computed are left empty and
+    reported after the file is written, as one CampaignError."""
     rows = []
+    problems: dict[str, int] = {}
     for i, params in enumerate(campaign.runs()):
         d = run_dir(campaign, i)
-        status = {}
-        if (d / "status.json").exists():
-            status = json.loads((d / "status.json").read_text())
+        status = _read_status(d)
         row = {"run": d.name, **params, "exit_code": status.get("exit_code", ""),
-               "wall_time": status.get("wall_time", ""), "error": status.get("error", "")}
+               "wall_time": status.get("wall_time", ""), "error": status.get("error", ""),
+               "failed_at": status.get("failed_at", "")}
         if status.get("exit_code") == 0:
-            row.update(metrics_of(campaign, d))
+            try:
+                row.update(metrics_of(campaign, d))
+            except CampaignError as exc:
+                problems[str(exc)] = problems.get(str(exc), 0) + 1
         rows.append(row)
     path = campaign.output / "summary.csv"
-    fields = ["run", *campaign.sweep, "exit_code", "wall_time", "error",
+    fields = ["run", *campaign.sweep, "exit_code", "wall_time", "error", "failed_at",
               *[m.name for m in campaign.metrics]]
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=fields)
         w.writeheader()
         for r in rows:
             w.writerow(r)
+    if problems:
+        raise CampaignError("; ".join(problems) + f" ({path} written without these metrics)")
     return path
 
 
@@ -368,23 +500,43 @@ def run_campaign(campaign: Campaign, jobs: int | None = None, executor: str | No
         progress(proc.stdout.strip() or proc.stderr.strip())
         return write_summary(campaign)
     jobs = jobs or campaign.jobs
-    done = 0
-
-    def one(item):
-        _, _, d = item
-        return d, run_one(exe, d)
-
-    with ThreadPoolExecutor(max_workers=jobs) as pool:
-        for d, status in pool.map(one, runs):
-            done += 1
+    runner = runner_identity(exe)
+    _interrupted.clear()
+    pool = ThreadPoolExecutor(max_workers=jobs)
+    try:
+        futures = [pool.submit(run_one, exe, d, runner) for _, _, d in runs]
+        for done, ((_, _, d), future) in enumerate(zip(runs, futures), start=1):
+            status = future.result()
+            if status is None:
+                continue
             state = "reused" if status.get("reused") else (
                 "ok" if status["exit_code"] == 0 else f"failed ({status.get('error', '')})")
             progress(f"[{done}/{len(runs)}] {d.name}: {state}")
+    except KeyboardInterrupt:
+        # Stop the runs in flight (unrecorded: a rerun resumes them) and start no other;
+        # a second Ctrl-C must not break this off.
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        try:
+            _stop_running_runs()
+            pool.shutdown(wait=True, cancel_futures=True)
+        finally:
+            signal.signal(signal.SIGINT, previous)
+        raise
+    pool.shutdown()
     return write_summary(campaign)
 
 
+class _ArgumentParser(argparse.ArgumentParser):
+    """Usage errors exit with 1 (bad input, as the runner's), not argparse's 2: that is the
+    runner's solver-failure status."""
+
+    def error(self, message: str):
+        self.print_usage(sys.stderr)
+        self.exit(1, f"{self.prog}: error: {message}\n")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="raildyn campaign", description=__doc__.split("\n\n")[0])
+    ap = _ArgumentParser(prog="raildyn campaign", description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="write the decks, run them, write summary.csv")
     r.add_argument("campaign")
@@ -402,6 +554,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.command == "task":
             status = run_one(Path(args.exe), Path(args.run))
+            if status is None:
+                raise KeyboardInterrupt
             return 0 if status["exit_code"] == 0 else 1
         camp = load_campaign(args.campaign)
         if args.command == "decks":
@@ -421,6 +575,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except CampaignError as e:
         print(f"raildyn campaign: error: {e}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        print("raildyn campaign: interrupted; rerun to resume", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

@@ -8,10 +8,13 @@ module rd_build_info
 contains
 
   !> Shell prefix running the configured Python with the raildyn package on its path.
+  !> `exec`: the interpreter replaces the shell, so that its exit status reaches the caller
+  !> unchanged; otherwise a Ctrl-C that Python handles (campaigns: exit 130) also kills the
+  !> waiting shell, and execute_command_line reports the signal number (2) as the status.
   function python_command() result(cmd)
     character(len=:), allocatable :: cmd
     include 'rd_build_config.inc'
-    cmd = 'PYTHONPATH=' // shell_quote(python_package_dir) // '${PYTHONPATH:+:$PYTHONPATH} ' // &
+    cmd = 'PYTHONPATH=' // shell_quote(python_package_dir) // '${PYTHONPATH:+:$PYTHONPATH} exec ' // &
           shell_quote(python_executable)
   end function python_command
 

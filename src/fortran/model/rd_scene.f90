@@ -16,7 +16,7 @@ module rd_scene
   use rd_kinds, only: wp, i8
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_HANDLE, &
                       RD_ERR_RUNTIME
-  use rd_deck, only: deck_t, read_deck_file, read_deck_string
+  use rd_deck, only: deck_t, read_deck_file, read_deck_string, deck_string_t
   use rd_track_point, only: track_geometry_t, track_point_t
   use rd_speed_law, only: speed_law_t, constant_speed, table_speed
   use rd_hdf5_writer, only: h5_writer_t
@@ -120,6 +120,7 @@ module rd_scene
     procedure :: completion_summary => scene_completion_summary
     procedure :: run_notes => scene_run_notes
     procedure :: default_output_file => scene_default_output_file
+    procedure :: input_files => scene_input_files
     procedure :: vehicle_sigma => scene_vehicle_sigma
     procedure :: integrator_stats => scene_integrator_stats
     procedure :: system => scene_system
@@ -1144,6 +1145,14 @@ contains
       end do
     end do
   end function contact_notes
+
+  !> Every file the scene's deck reads (rd_deck input_files): the deck, its includes at any
+  !> depth, profile, irregularity and survey files. Empty before a deck was loaded.
+  function scene_input_files(self) result(files)
+    class(scene_t), intent(in) :: self
+    type(deck_string_t), allocatable :: files(:)
+    files = self%deck%input_files()
+  end function scene_input_files
 
   !> The deck's path with its extension replaced by `suffix` (e.g. '_track.h5').
   function scene_default_output_file(self, suffix) result(path)

@@ -15,7 +15,7 @@
 module rd_deck
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_INTERNAL
-  use rd_deck_text, only: deck_string_t, int_to_str, path_dir
+  use rd_deck_text, only: deck_string_t, int_to_str, path_dir, append_string
   use rd_deck_schema, only: deck_schema_t, build_deck_schema, find_group, find_param, &
                             type_text, write_schema_markdown, PT_REAL, PT_INTEGER, PT_STRING, &
                             PT_LOGICAL, PT_REAL_ARRAY, PT_STRING_LIST
@@ -33,6 +33,7 @@ module rd_deck
     type(deck_entity_t), allocatable :: entities(:)
     integer :: nent = 0
     character(len=:), allocatable :: full_text
+    logical :: from_file = .false.   !< sources(1) is a file (not a deck given as text)
   contains
     procedure :: count => deck_count
     procedure :: given => deck_given
@@ -40,6 +41,7 @@ module rd_deck
     procedure :: path => deck_path
     procedure :: text => deck_text
     procedure :: file_name => deck_file_name
+    procedure :: input_files => deck_input_files
     procedure, private :: get_real, get_integer, get_logical, get_string, get_real_array, &
                           get_string_list
     generic :: get => get_real, get_integer, get_logical, get_string, get_real_array, &
@@ -63,6 +65,7 @@ contains
     end if
     call read_deck_string(deck, text, path_dir(path), path, error)
     if (allocated(error)) return
+    deck%from_file = .true.
   end subroutine read_deck_file
 
   !> Read a deck held in a string. `base_dir` is where its relative paths
@@ -335,6 +338,47 @@ contains
     t = ''
     if (allocated(self%full_text)) t = self%full_text
   end function deck_text
+
+  !> Every file the deck reads, each once in reading order: the deck itself (when read from
+  !> a file), every included deck (nested ones too), and every input file a parameter names
+  !> (profiles, irregularity and survey files; not analytic profile keywords, not the results
+  !> file). Paths as the deck resolved them. What a cache of results depends on.
+  function deck_input_files(self) result(files)
+    class(deck_t), intent(in) :: self
+    type(deck_string_t), allocatable :: files(:)
+    integer :: k, ie, ip
+    allocate (files(0))
+    if (.not. allocated(self%sources)) return
+    do k = merge(1, 2, self%from_file), size(self%sources)
+      call add(self%sources(k)%name)
+    end do
+    do ie = 1, self%nent
+      associate (e => self%entities(ie), g => self%schema%groups(self%entities(ie)%group))
+        do ip = 1, size(e%values)
+          if (.not. (g%params(ip)%is_path .and. g%params(ip)%must_exist)) cycle
+          if (.not. allocated(e%values(ip)%resolved)) cycle
+          if (in_list(e%values(ip)%resolved, g%params(ip)%path_keywords)) cycle
+          call add(e%values(ip)%resolved)
+        end do
+      end associate
+    end do
+  contains
+    subroutine add(path)
+      character(len=*), intent(in) :: path
+      if (in_list(path, files)) return
+      call append_string(files, path)
+    end subroutine add
+
+    pure logical function in_list(word, list)
+      character(len=*), intent(in) :: word
+      type(deck_string_t), intent(in) :: list(:)
+      integer :: j
+      in_list = .false.
+      do j = 1, size(list)
+        if (list(j)%s == word) in_list = .true.
+      end do
+    end function in_list
+  end function deck_input_files
 
   function deck_file_name(self) result(name)
     class(deck_t), intent(in) :: self
