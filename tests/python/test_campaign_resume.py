@@ -4,6 +4,7 @@ stops cleanly, and failures, missing channels and damaged files are reported wit
 while summary.csv survives. Categories: pytest -m campaign_cache, -m campaign_errors."""
 import csv
 import json
+import math
 import os
 import signal
 import subprocess
@@ -97,6 +98,19 @@ def test_check_json_lists_every_file_read(tmp_path, raildyn_exe):
     named = irregularity[0].split("irregularity_file")[1].split("'")[1]
     assert (deck.parent / named).resolve() in files
     assert not any(f.name in ("s1002", "60e1", "54e1") or f.suffix == ".h5" for f in files)
+    # profile files named in an override of a deck that includes three more decks
+    profiles = REPO / "inputs" / "profiles"
+    (tmp_path / "profiles.nml").write_text(
+        f"&include file = '{REPO / 'inputs' / 'tgv_profile_fastsim.nml'}' /\n"
+        f"&wheelset name = 'w1', wheel_profile = '{profiles / 's1002.prw'}', "
+        f"rail_profile = '{profiles / '60e1.prr'}' /\n")
+    answer = json.loads(subprocess.run([str(raildyn_exe), "check", "profiles.nml", "--json"],
+                                       cwd=tmp_path, capture_output=True, text=True).stdout)
+    files = [Path(tmp_path, f).resolve() for f in answer["input_files"]]
+    assert answer["status"] == "ok" and files[:2] == [tmp_path / "profiles.nml",
+                                                      REPO / "inputs" / "tgv_profile_fastsim.nml"]
+    assert files[-2:] == [profiles / "s1002.prw", profiles / "60e1.prr"]
+    assert all(f.is_file() for f in files) and len(files) == len(set(files)) > 4
     # a deck that does not check: status error with the message, files read so far listed
     (tmp_path / "parts" / "spring.nml").write_text("&element name = 'spring', typo = 1 /\n")
     proc = subprocess.run([str(raildyn_exe), "check", "base.nml", "--json"], cwd=tmp_path,
@@ -128,6 +142,30 @@ def test_edit_two_includes_down_reruns(tmp_path, raildyn_exe):
     states, rows = run(path)
     assert states == ["ok", "ok"]
     damping_decay(rows, 800.0)
+
+
+@pytest.mark.campaign_cache
+def test_edited_survey_file_reruns(tmp_path, raildyn_exe):
+    """An input file that is not a deck (here the track's survey points): straight along x,
+    then along y = 0.1 x; the track frame ends at arc length V t_end on that line."""
+    def survey(slope):
+        (tmp_path / "survey.txt").write_text(
+            "# x y z superelevation\n" + "".join(f"{x} {slope * x} 0 0\n" for x in range(0, 401, 20)))
+    survey(0.0)
+    (tmp_path / "track.nml").write_text("&simulation t_end = 2.0, speed = 10.0 /\n"
+                                        "&output interval = 0.5 /\n&track survey_file = 'survey.txt' /\n")
+    path = tmp_path / "c.toml"
+    path.write_text(f'name = "survey"\ndeck = "track.nml"\noutput = "runs"\nraildyn = "{raildyn_exe}"\n'
+                    '[sweep]\n"simulation.speed" = [10.0, 20.0]\n'
+                    '[[metrics]]\nname = "y_end"\nchannel = "track/frames/1/position:Y"\nreduce = "final"\n')
+    states, rows = run(path)
+    assert states == ["ok", "ok"] and [float(r["y_end"]) for r in rows] == [0.0, 0.0]
+    survey(0.1)
+    states, rows = run(path)
+    assert states == ["ok", "ok"]
+    for row in rows:
+        arc = 2.0 * float(row["simulation.speed"])
+        assert float(row["y_end"]) == pytest.approx(arc * math.sin(math.atan(0.1)), rel=1e-9)
 
 
 @pytest.mark.campaign_cache
