@@ -3,8 +3,8 @@
  * (Hertz patch, creep forces of one patch). SI units; frames and signs as
  * docs/conventions.md: x along the rolling direction, y lateral in the contact plane,
  * forces and moment ON THE WHEEL in contact-frame components, spin creepage in 1/m.
- * Every function returns 0 on success and 1 (RD_ERR_INPUT) for bad input; outputs are
- * then left untouched. Thread-safe (no global state).
+ * Every function returns 0 on success and 1 (RD_ERR_INPUT) for bad input, a NULL pointer
+ * argument included; outputs are then left untouched. Thread-safe (no global state).
  */
 #ifndef RAILDYN_CALCULATORS_H
 #define RAILDYN_CALCULATORS_H

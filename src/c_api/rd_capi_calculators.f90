@@ -1,7 +1,9 @@
 !> C-callable contact mechanics calculators (src/c_api/raildyn_calculators.h): a Hertz
-!> patch and the creep forces of one patch. Stateless; status 0 ok, 1 bad input.
+!> patch and the creep forces of one patch. Stateless; status 0 ok, 1 bad input (also a
+!> NULL pointer argument: pointers are taken as C pointers and checked before use).
 module rd_capi_calculators
-  use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_int, c_double, c_char, c_null_char, c_ptr, &
+                                         c_associated, c_f_pointer
   use rd_kinds, only: wp
   use rd_error, only: error_t, RD_OK, RD_ERR_INPUT
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_init, hertz_from_force, hertz_from_penetration
@@ -16,18 +18,40 @@ module rd_capi_calculators
 
 contains
 
-  function rd_hertz_patch(curvatures, young_modulus, poisson_ratio, load_kind, load, a, b, normal_force, &
-                          approach, p0, stiffness, warning) result(status) bind(C, name='rd_hertz_patch')
-    real(c_double), intent(in) :: curvatures(4)
+  !> All pointer arguments given (not NULL).
+  logical function all_given(pointers)
+    type(c_ptr), intent(in) :: pointers(:)
+    integer :: i
+    all_given = .true.
+    do i = 1, size(pointers)
+      if (.not. c_associated(pointers(i))) all_given = .false.
+    end do
+  end function all_given
+
+  !> Store a result through a checked C pointer.
+  subroutine put(pointer, value)
+    type(c_ptr), intent(in) :: pointer
+    real(c_double), intent(in) :: value
+    real(c_double), pointer :: target_value
+    call c_f_pointer(pointer, target_value)
+    target_value = value
+  end subroutine put
+
+  function rd_hertz_patch(curvatures_c, young_modulus, poisson_ratio, load_kind, load, a, b, normal_force, &
+                          approach, p0, stiffness, warning_c) result(status) bind(C, name='rd_hertz_patch')
+    type(c_ptr), value :: curvatures_c, a, b, normal_force, approach, p0, stiffness, warning_c
     real(c_double), value :: young_modulus, poisson_ratio, load
     integer(c_int), value :: load_kind
-    real(c_double), intent(out) :: a, b, normal_force, approach, p0, stiffness
-    integer(c_int), intent(out) :: warning
     integer(c_int) :: status
+    real(c_double), pointer :: curvatures(:)
+    integer(c_int), pointer :: warning
     type(hertz_params_t) :: params
     type(hertz_patch_t) :: patch
     type(error_t), allocatable :: error
     status = RD_ERR_INPUT
+    if (.not. all_given([curvatures_c, a, b, normal_force, approach, p0, stiffness, warning_c])) return
+    call c_f_pointer(curvatures_c, curvatures, [4])
+    call c_f_pointer(warning_c, warning)
     if (load_kind /= 0 .and. load_kind /= 1) return
     call hertz_init(params, error, young_wheel=real(young_modulus, wp), poisson_wheel=real(poisson_ratio, wp))
     if (allocated(error)) return
@@ -37,23 +61,23 @@ contains
       call hertz_from_penetration(params, real(curvatures, wp), real(load, wp), patch)
     end if
     if (iand(patch%warning, 8) /= 0) return     ! HERTZ_WARN_BAD_INPUT: NaN/Inf given
-    a = patch%a
-    b = patch%b
-    normal_force = patch%normal_force
-    approach = patch%approach
-    p0 = patch%p0
-    stiffness = patch%stiffness
+    call put(a, patch%a)
+    call put(b, patch%b)
+    call put(normal_force, patch%normal_force)
+    call put(approach, patch%approach)
+    call put(p0, patch%p0)
+    call put(stiffness, patch%stiffness)
     warning = patch%warning
     status = RD_OK
   end function rd_hertz_patch
 
-  function rd_creep_forces(law, a, b, normal_force, g, nu, mu, xi, eta, phi, grid, fx, fy, mz) &
+  function rd_creep_forces(law_c, a, b, normal_force, g, nu, mu, xi, eta, phi, grid, fx, fy, mz) &
       result(status) bind(C, name='rd_creep_forces')
-    character(kind=c_char), intent(in) :: law(*)
+    type(c_ptr), value :: law_c, fx, fy, mz
     real(c_double), value :: a, b, normal_force, g, nu, mu, xi, eta, phi
     integer(c_int), value :: grid
-    real(c_double), intent(out) :: fx, fy, mz
     integer(c_int) :: status
+    character(kind=c_char), pointer :: law(:)
     character(len=max_name) :: name
     type(contact_patch_t) :: patch
     type(creepage_t) :: creep
@@ -63,6 +87,8 @@ contains
     type(error_t), allocatable :: error
     integer :: i
     status = RD_ERR_INPUT
+    if (.not. all_given([law_c, fx, fy, mz])) return
+    call c_f_pointer(law_c, law, [max_name])     ! read up to its NUL, at most max_name bytes
     name = ''
     do i = 1, max_name
       if (law(i) == c_null_char) exit
@@ -79,9 +105,9 @@ contains
     call make_creep_law(name, options, creep_law, error)
     if (allocated(error)) return
     call creep_law%compute(patch, creep, force)
-    fx = force%fx
-    fy = force%fy
-    mz = force%mz
+    call put(fx, force%fx)
+    call put(fy, force%fy)
+    call put(mz, force%mz)
     status = RD_OK
   end function rd_creep_forces
 end module rd_capi_calculators

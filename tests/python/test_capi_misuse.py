@@ -261,3 +261,34 @@ def test_failed_run_recorded_like_the_runner(tmp_path, raildyn_exe):
         assert np.array_equal(api["bodies/mass/position_track"][:],
                               runner["bodies/mass/position_track"][:])
 
+
+
+def test_calculators_null_arguments():
+    """raildyn_calculators.h: each pointer argument NULL in turn gives status 1, the same
+    call with every pointer given succeeds."""
+    result = run_isolated("""
+        import ctypes
+        from raildyn.model import find_library
+        lib = ctypes.CDLL(find_library())
+        d, i, p = ctypes.c_double, ctypes.c_int, ctypes.c_void_p
+        lib.rd_hertz_patch.argtypes = [p, d, d, i, d, p, p, p, p, p, p, p]
+        lib.rd_creep_forces.argtypes = [p, d, d, d, d, d, d, d, d, d, i, p, p, p]
+        curv = (d * 4)(2.0, 0.0, 0.0, 1.0 / 0.3)
+        warning = ctypes.c_int()
+        hertz = [curv, *[ctypes.byref(d()) for _ in range(6)], ctypes.byref(warning)]
+        law = ctypes.create_string_buffer(b"fastsim")
+        creep = [law, *[ctypes.byref(d()) for _ in range(3)]]
+        def call_hertz(ptrs):
+            return lib.rd_hertz_patch(ctypes.cast(ptrs[0], p), 2.1e11, 0.28, 0, 1e5,
+                                      *[ctypes.cast(x, p) for x in ptrs[1:]])
+        def call_creep(ptrs):
+            return lib.rd_creep_forces(ctypes.cast(ptrs[0], p), 6e-3, 4e-3, 1e5, 8.2e10, 0.28, 0.3,
+                                       1e-3, 0.0, 0.0, 10, *[ctypes.cast(x, p) for x in ptrs[1:]])
+        out = {"hertz_ok": call_hertz(hertz), "creep_ok": call_creep(creep),
+               "hertz_null": [call_hertz(hertz[:k] + [None] + hertz[k + 1:]) for k in range(len(hertz))],
+               "creep_null": [call_creep(creep[:k] + [None] + creep[k + 1:]) for k in range(len(creep))]}
+        print(json.dumps(out))
+    """)
+    assert result["hertz_ok"] == 0 and result["creep_ok"] == 0
+    assert result["hertz_null"] == [RD_ERR_INPUT] * 8
+    assert result["creep_null"] == [RD_ERR_INPUT] * 4
