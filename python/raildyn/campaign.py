@@ -346,7 +346,9 @@ def run_one(exe: Path, run: Path, runner: str | None = None) -> dict[str, Any] |
                 _completed_results(run / "results.h5"):
             old["reused"] = True
             return old
+    # nothing of an earlier attempt may be read as this run's outcome (_failure)
     status_file.unlink(missing_ok=True)
+    (run / "results.h5").unlink(missing_ok=True)
     t0 = time.time()
     code = _run_runner(exe, run)
     if code is None:

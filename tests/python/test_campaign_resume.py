@@ -230,6 +230,12 @@ def test_failed_run_says_where_and_when(tmp_path, raildyn_exe):
     with h5py.File(tmp_path / "runs" / "run0001" / "results.h5") as f:
         assert float(failed["failed_at"]) == f["meta"].attrs["end_time"] > 0
         assert f["meta"].attrs["status"].decode() == "failed: " + failed["error"]
+    # the failed run's deck made invalid: its row gives the new error, not the results
+    # file of the attempt before
+    path.write_text(path.read_text().replace("[-1.0, 1000.0]", "[-1.0, -2.0]"))
+    _, rows = run(path)
+    assert rows[1]["exit_code"] == "1" and rows[1]["failed_at"] == ""
+    assert "deck.nml" in rows[1]["error"] and "CV_TOO_MUCH_WORK" not in rows[1]["error"]
 
 
 @pytest.mark.campaign_errors
