@@ -292,3 +292,101 @@ def test_calculators_null_arguments():
     assert result["hertz_ok"] == 0 and result["creep_ok"] == 0
     assert result["hertz_null"] == [RD_ERR_INPUT] * 8
     assert result["creep_null"] == [RD_ERR_INPUT] * 4
+
+
+def test_random_call_sequences_never_kill_the_host(tmp_path):
+    """Fuzz: 1500 calls drawn at random (seeded) from the whole API, on live, failed,
+    finalized, destroyed and made-up handles, with bad times, names, sizes and NULLs. The
+    host survives, every status is one of raildyn.h's, a failing call leaves a message, and
+    a successful advance reaches its target."""
+    decks = [mass_deck(equilibrium="none"), mass_deck(element=""),          # runs / cannot start
+             mass_deck(equilibrium="none", solver=", max_num_steps = 20"),  # fails in advance
+             mass_deck(output=f", file = '{tmp_path}/fuzz.h5'"), "&simulation t_ned = 1 /\n"]
+    result = run_isolated(f"""
+        import ctypes, math, random
+        from raildyn.model import load_library
+        lib = load_library()
+        rng = random.Random(20261125)
+        decks = {[d.encode() for d in decks]!r}
+        handles, issued = [], []
+        statuses, problems = {{}}, []
+        def message(h):
+            buf = ctypes.create_string_buffer(1024)
+            lib.rd_error_message(h, buf, 1024)
+            return buf.value
+        def pick():
+            roll = rng.random()
+            if handles and roll < 0.7:
+                return rng.choice(handles)
+            if issued and roll < 0.9:
+                return rng.choice(issued)
+            return rng.choice([0, -5, 2**40, rng.randrange(1, 1000)])
+        def doubles(n):
+            return (ctypes.c_double * max(n, 1))(*[rng.uniform(-1e3, 1e3)] * max(n, 1))
+        for step in range(1500):
+            what = rng.choices(["create", "initialize", "advance", "time", "state", "outputs",
+                                "input", "finalize", "destroy", "notes"],
+                               weights=[2, 4, 8, 1, 1, 2, 2, 1, 1, 1])[0]
+            h = pick()
+            if what == "create":
+                out = ctypes.c_int64()
+                s = lib.rd_create_from_string(rng.choice(decks + [None]), None,
+                                              ctypes.byref(out) if rng.random() < 0.95 else None)
+                if out.value:
+                    handles.append(out.value); issued.append(out.value)
+                h = out.value      # 0: no handle made (NULL handle argument), no message
+            elif what == "initialize":
+                s = lib.rd_initialize(h, rng.choice([0, 1]))
+            elif what == "advance":
+                t = ctypes.c_double()
+                before = lib.rd_get_time(h, ctypes.byref(t))
+                target = rng.choice([t.value + rng.uniform(0, 0.3), t.value - 1.0, math.nan, math.inf])
+                s = lib.rd_advance(h, target)
+                if s == 0 and (lib.rd_get_time(h, ctypes.byref(t)) != 0 or abs(t.value - target) > 1e-9):
+                    problems.append(f"advance to {{target}} reached {{t.value}}")
+            elif what == "time":
+                t = ctypes.c_double()
+                s = lib.rd_get_time(h, ctypes.byref(t) if rng.random() < 0.8 else None)
+            elif what == "state":
+                n = ctypes.c_int()
+                lib.rd_get_state_size(h, ctypes.byref(n))
+                size = n.value + rng.choice([0, 0, 1, -1, -n.value - 3])
+                s = lib.rd_get_state(h, doubles(size) if rng.random() < 0.9 else None, size)
+            elif what == "outputs":
+                n = ctypes.c_int()
+                lib.rd_output_count(h, ctypes.byref(n))
+                index = rng.randrange(-1, n.value + 2)
+                name = ctypes.create_string_buffer(256)
+                s = lib.rd_output_name(h, index, name, rng.choice([256, 1, 0]))
+                key = name.value if s == 0 and name.value else rng.choice([b"vehicle/speed", b"x", None])
+                size = ctypes.c_int()
+                lib.rd_output_size(h, key, ctypes.byref(size))
+                s = lib.rd_get_output(h, key, doubles(size.value), size.value + rng.choice([0, 0, 1]))
+            elif what == "input":
+                key = rng.choice([b"speed", b"body/mass/external_force", b"body/none/external_force",
+                                  b"nonsense", None])
+                size = rng.choice([1, 6, 0, -2])
+                s = lib.rd_set_input(h, key, doubles(size), size)
+            elif what == "finalize":
+                s = lib.rd_finalize(h)
+            elif what == "destroy":
+                s = lib.rd_destroy(h)
+                if s == 0:
+                    handles.remove(h)
+            else:
+                s = lib.rd_run_notes(h, ctypes.create_string_buffer(64), 64)
+            statuses[what + ":" + str(s)] = statuses.get(what + ":" + str(s), 0) + 1
+            if s not in range(7):
+                problems.append(f"{{what}} returned {{s}}")
+            if s != 0 and h != 0 and not message(h):
+                problems.append(f"{{what}} failed with status {{s}} and no message")
+        for h in handles:
+            lib.rd_destroy(h)
+        print(json.dumps({{"statuses": statuses, "problems": problems}}))
+    """)
+    assert result["problems"] == []
+    seen = result["statuses"]
+    # the sequence exercised successes and every kind of refusal
+    for key in ("initialize:0", "advance:0", "advance:1", "advance:2", "advance:6", "create:1",
+                "destroy:0", "destroy:6", "input:1", "time:1"):
+        assert seen.get(key, 0) > 0, (key, seen)
