@@ -1,6 +1,6 @@
 !> Cost per call of the Hertz step and of each creep law (FASTSIM at grids 5, 10, 20, 40),
 !> and the error of each law against CONTACT's exact-theory rows of
-!> ../shared/reference/oracles.md (a = 6 mm, b = 4 mm, N = 50 kN, G = 82 GPa, nu = 0.28,
+!> validation/reference/oracles.md (a = 6 mm, b = 4 mm, N = 50 kN, G = 82 GPa, nu = 0.28,
 !> mu = 0.3). Prints a markdown section for docs/performance.md (see run.sh).
 program bench_contact_mechanics
   use, intrinsic :: iso_fortran_env, only: int64, compiler_version, compiler_options

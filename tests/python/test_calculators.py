@@ -1,6 +1,6 @@
 """Contact calculators, from Python (ctypes over libraildyn) and from the command line
 (`raildyn hertz`, `raildyn creep`), against the closed forms and CONTACT values of
-../shared/reference/oracles.md."""
+validation/reference/oracles.md."""
 import json
 import os
 import subprocess

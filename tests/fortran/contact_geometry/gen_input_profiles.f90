@@ -1,5 +1,5 @@
 !> Writes inputs/profiles/ from the analytic generators (rd_profile_analytic), so that decks
-!> can use S1002 / 60E1 / 54E1 without /work/shared:  gen_input_profiles OUTDIR
+!> can use S1002 / 60E1 / 54E1 by keyword-free file names:  gen_input_profiles OUTDIR
 program gen_input_profiles
   use rd_kinds, only: wp
   use rd_error, only: error_t

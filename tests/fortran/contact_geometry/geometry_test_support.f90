@@ -1,34 +1,15 @@
-!> Helpers shared by the contact-geometry tests: where the shared reference data lives,
-!> a check that stops the test program with a message, and closed-form test profiles
+!> Helpers shared by the contact-geometry tests: a check that stops the test program with a message, and closed-form test profiles
 !> (a conical wheel, a circular rail head) with the rail-head centre of their placement.
 module geometry_test_support
   use rd_kinds, only: wp
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL
   implicit none
   private
-  public :: shared_dir, check, failures, cone_wheel_profile, circle_rail_profile, circle_rail_centre_y
+  public :: check, failures, cone_wheel_profile, circle_rail_profile, circle_rail_centre_y
 
   integer :: failures = 0
 
 contains
-
-  !> RAILDYN_SHARED_DIR (set by ctest), else ../shared next to the source tree.
-  function shared_dir() result(dir)
-    character(len=:), allocatable :: dir
-    character(len=1024) :: buf
-    integer :: n, st
-    call get_environment_variable('RAILDYN_SHARED_DIR', buf, n, st)
-    if (st == 0 .and. n > 0) then
-      dir = trim(buf)
-      return
-    end if
-    call get_environment_variable('RAILDYN_SOURCE_DIR', buf, n, st)
-    if (st == 0 .and. n > 0) then
-      dir = trim(buf) // '/../shared'
-    else
-      dir = '../shared'
-    end if
-  end function shared_dir
 
   subroutine check(ok, what)
     logical, intent(in) :: ok

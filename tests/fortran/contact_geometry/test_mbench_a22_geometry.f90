@@ -1,4 +1,4 @@
-!> Manchester contact benchmark A-2.2 (reference/mbench_a22): S1002 v3 wheels on UIC60 v3
+!> Manchester contact benchmark A-2.2 (validation/reference/mbench_a22): S1002 v3 wheels on UIC60 v3
 !> rails 1:40, wheelset shifted 0..10 mm with yaw 2.4 mrad/mm. Independent oracle: CONTACT's
 !> contact positions on the rails and contact angles (reference.csv).
 !>
@@ -6,7 +6,7 @@
 !> so our y = -y_ws and our yaw = -yaw_ref; roll (about the common x axis) keeps its sign.
 !> The vertical position is not given (CONTACT prescribes 10 kN): we take the rigid-contact
 !> height and roll for the given shift and yaw, and lower the wheelset by 20 um (about the
-!> Hertz approach at 10 kN, reference/oracles.md) to open the patches.
+!> Hertz approach at 10 kN, validation/reference/oracles.md) to open the patches.
 !> Rail coordinates: reference y_cp_rail is the rail file coordinate (field side +) for the
 !> right rail and its mirror for the left rail; our u_rail is the file coordinate on both.
 !> Contact angles: CONTACT measures them in its frame (y right), ours towards +Y: both
@@ -21,7 +21,8 @@ program test_mbench_a22_geometry
   use rd_contact_patch, only: wheel_contact_t, PATCH_TREAD
   use rd_rigid_contact, only: rigid_contact
   use rd_strip_contact, only: strip_wheel_contact
-  use geometry_test_support, only: shared_dir, check, failures
+  use geometry_test_support, only: check, failures
+  use test_files, only: reference_path
   implicit none
   type(profile_t) :: wp_prof, rp_prof
   type(error_t), allocatable :: error
@@ -30,7 +31,6 @@ program test_mbench_a22_geometry
   type(contact_geometry_t) :: geo
   type(wheel_contact_t) :: left, right, full_l, full_r
   real(wp) :: err_search = 0, err_search_u = 0
-  character(len=:), allocatable :: dir
   character(len=512) :: line
   real(wp) :: v(25), yws(21), yaw(21), roll(21), ul_ref(21), gl_ref(21), ur_ref(21), gr_ref(21)
   real(wp) :: z, phi, ul(21), ur(21), gl(21), gr(21), err_u, err_u_case2, err_g, jump, phis(21), err_roll, err_gf
@@ -38,17 +38,16 @@ program test_mbench_a22_geometry
   integer :: unit, ios, n, i, nl(21), nr(21), ir, il
   logical :: flange_r(21)
 
-  dir = shared_dir()
-  call read_profile_file(dir // '/reference/profiles/MBench_S1002_v3.prw', PROFILE_WHEEL, wp_prof, error)
+  call read_profile_file(reference_path('profiles/MBench_S1002_v3.prw'), PROFILE_WHEEL, wp_prof, error)
   if (allocated(error)) error stop 'cannot read wheel: ' // error%message
-  call read_profile_file(dir // '/reference/profiles/MBench_UIC60_v3.prr', PROFILE_RAIL, rp_prof, error)
+  call read_profile_file(reference_path('profiles/MBench_UIC60_v3.prr'), PROFILE_RAIL, rp_prof, error)
   if (allocated(error)) error stop 'cannot read rail: ' // error%message
   pl%rail_precant = 0.025_wp      ! the v3 rail is already canted 1:40
   pl%inclination = 0.025_wp
   call init_strip_contact(geo, wp_prof, rp_prof, pl, opt, error)
   if (allocated(error)) error stop error%message
 
-  open (newunit=unit, file=dir // '/reference/mbench_a22/reference.csv', status='old', action='read')
+  open (newunit=unit, file=reference_path('mbench_a22/reference.csv'), status='old', action='read')
   read (unit, '(a)') line
   n = 0
   do
@@ -63,8 +62,8 @@ program test_mbench_a22_geometry
   close (unit)
   call check(n == 21, 'reference.csv has 21 cases')
   ! longitudinal contact positions XCP(TR) [mm] from CONTACT's outputs (same x axis as ours)
-  call read_xcp(dir // '/reference/mbench_a22/mbench_a22_left.ref_out', xl_ref)
-  call read_xcp(dir // '/reference/mbench_a22/mbench_a22_right.ref_out', xr_ref)
+  call read_xcp(reference_path('mbench_a22/mbench_a22_left.ref_out'), xl_ref)
+  call read_xcp(reference_path('mbench_a22/mbench_a22_right.ref_out'), xr_ref)
 
   write (*, '(a)') ' case  y[mm]  roll_ref   roll_rigid | nL uL[mm] ref    gL[rad] ref     | nR uR[mm] ref     gR[rad] ref'
   do i = 1, n

@@ -12,6 +12,7 @@ program test_profile_scan
   use rd_profile_scan, only: profile_scan_t, run_profile_scan, equivalent_conicity
   use rd_cmd_profile_scan, only: run_profile_scan_command
   use geometry_test_support, only: check, failures
+  use test_files, only: scratch_name
   implicit none
   type(knife_edge_t) :: k
   type(contact_geometry_t) :: geo
@@ -23,7 +24,7 @@ program test_profile_scan
   real(wp) :: lam, amax, asym
   integer :: i, status, u, nlines, ncomma, ios
   character(len=4000) :: line
-  character(len=*), parameter :: csv = '/tmp/raildyn_test_profile_scan.csv'
+  character(len=:), allocatable :: csv
 
   k%cone_angle = 0.05_wp; k%e0 = 0.75_wp; k%r0 = 0.46_wp
   call init_knife_edge_contact(geo, k, error)
@@ -60,7 +61,8 @@ program test_profile_scan
   call check(asym < 1e-9_wp, 'delta_r and roll antisymmetric in the shift, patch counts mirrored')
   call check(all(scan%delta_r(scan%n / 2 + 2:) > 0), 'positive shift (left): left rolling radius larger')
 
-  call run_profile_scan_command([character(len=60) :: '--ymax', '0.004', '--step', '0.001', '--csv', csv], status)
+  csv = scratch_name('test_profile_scan', '.csv')
+  call run_profile_scan_command([character(len=512) :: '--ymax', '0.004', '--step', '0.001', '--csv', csv], status)
   call check(status == 0, 'profile-scan command succeeds')
   open (newunit=u, file=csv, status='old', action='read', iostat=ios)
   call check(ios == 0, 'CSV written')

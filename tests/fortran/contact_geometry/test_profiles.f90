@@ -8,7 +8,8 @@ program test_profiles
   use rd_profile_io, only: read_profile_file, write_profile_table, write_profile_simpack
   use rd_profile_analytic, only: s1002_radius_increase_mm, s1002_profile, rail_head_construction_t, &
     rail_head_construction, rail_head_profile, RAIL_60E1, RAIL_54E1
-  use geometry_test_support, only: shared_dir, check, failures
+  use geometry_test_support, only: check, failures
+  use test_files, only: reference_path, scratch_name, write_file, delete_file
   implicit none
   type(profile_t) :: prof, p2, circ
   type(error_t), allocatable :: error
@@ -18,12 +19,11 @@ program test_profiles
   real(wp), parameter :: joints(7) = [-62.764705882_wp, -49.662510381_wp, -39.764473993_wp, &
     -38.426669071_wp, -35.0_wp, -26.0_wp, 32.15796_wp]
   integer :: i, n
-  character(len=:), allocatable :: dir
-  character(len=*), parameter :: tmp = '/tmp/raildyn_test_profiles_'
+  character(len=:), allocatable :: tmp   !< prefix of this run's scratch files
 
-  dir = shared_dir()
+  tmp = scratch_name('test_profiles', '_')
   ! --- analytic S1002 vs the v3 file (distance normal to the curve)
-  call read_profile_file(dir // '/reference/profiles/MBench_S1002_v3.prw', PROFILE_WHEEL, prof, error)
+  call read_profile_file(reference_path('profiles/MBench_S1002_v3.prw'), PROFILE_WHEEL, prof, error)
   call check(.not. allocated(error), 'read MBench_S1002_v3.prw')
   if (allocated(error)) error stop error%message
   n = size(prof%y)
@@ -97,37 +97,37 @@ program test_profiles
   call check(maxval(abs(ks - 20)) < 1e-6_wp * 20, 'circle R50: smoothed curvature exactly 1/R everywhere')
 
   ! --- readers: errors with file:line, units
-  call write_text('bad_points.txt', [character(len=30) :: '# units: mm', '0 1', '1 x2', '2 3'])
+  call write_file(tmp // 'bad_points.txt', [character(len=30) :: '# units: mm', '0 1', '1 x2', '2 3'])
   call read_profile_file(tmp // 'bad_points.txt', PROFILE_WHEEL, p2, error)
   call check(has(error, 'bad_points.txt:3:'), 'malformed line reported with file:line')
-  call write_text('few_points.txt', ['0 0', '1 1', '2 2'])
+  call write_file(tmp // 'few_points.txt', ['0 0', '1 1', '2 2'])
   call read_profile_file(tmp // 'few_points.txt', PROFILE_RAIL, p2, error)
   call check(has(error, 'too few points'), 'too few points reported')
-  call write_text('nonmono.txt', [character(len=30) :: '# units: mm', '0 0        ', '10 1       ', '20 2       ', '15 3       ', &
+  call write_file(tmp // 'nonmono.txt', [character(len=30) :: '# units: mm', '0 0        ', '10 1       ', '20 2       ', '15 3       ', &
                                   '30 4       ', '40 5       '])
   call read_profile_file(tmp // 'nonmono.txt', PROFILE_RAIL, p2, error)
   call check(has(error, 'not strictly monotonic'), 'non-monotonic profile reported')
-  call write_text('mm_units.txt', ['0 0  ', '20 1 ', '40 2 ', '60 3 ', '80 4 ', '100 5'])
+  call write_file(tmp // 'mm_units.txt', ['0 0  ', '20 1 ', '40 2 ', '60 3 ', '80 4 ', '100 5'])
   call read_profile_file(tmp // 'mm_units.txt', PROFILE_WHEEL, p2, error)
   call check(has(error, 'millimetres'), 'wheel of 100 "m" extent: suspected millimetres')
-  call write_text('tiny.txt', ['0 0      ', '0.002 1  ', '0.004 2  ', '0.006 3  ', '0.008 4  ', '0.010 5  '])
+  call write_file(tmp // 'tiny.txt', ['0 0      ', '0.002 1  ', '0.004 2  ', '0.006 3  ', '0.008 4  ', '0.010 5  '])
   call read_profile_file(tmp // 'tiny.txt', PROFILE_WHEEL, p2, error)
   call check(has(error, 'implausible'), 'wheel of 10 mm extent: implausible')
-  call write_text('nan.txt', [character(len=30) :: '0 0', '0.01 nan', '0.02 0', '0.03 0', '0.04 0', '0.05 0'])
+  call write_file(tmp // 'nan.txt', [character(len=30) :: '0 0', '0.01 nan', '0.02 0', '0.03 0', '0.04 0', '0.05 0'])
   call read_profile_file(tmp // 'nan.txt', PROFILE_RAIL, p2, error)
   call check(has(error, 'nan.txt:2:') .or. has(error, 'non-finite'), 'NaN coordinate reported')
-  call write_text('csv_mm.csv', [character(len=30) :: '# S1002 part; units: mm', '-60,20', '-30,5', '0,0', &
+  call write_file(tmp // 'csv_mm.csv', [character(len=30) :: '# S1002 part; units: mm', '-60,20', '-30,5', '0,0', &
                                  '30,-1      ', '60, -3     '])
   call read_profile_file(tmp // 'csv_mm.csv', PROFILE_WHEEL, p2, error)
   call check(.not. allocated(error), 'comma table with "units: mm" reads')
   if (.not. allocated(error)) call check(abs(p2%y(5) - 0.060_wp) < 1e-15_wp .and. abs(p2%z(5) + 0.003_wp) < 1e-15_wp, &
     'table converted to metres')
-  call read_profile_file(dir // '/reference/profiles/MBench_UIC60_v3.prr', PROFILE_WHEEL, p2, error)
+  call read_profile_file(reference_path('profiles/MBench_UIC60_v3.prr'), PROFILE_WHEEL, p2, error)
   call check(has(error, 'type'), 'rail file read as wheel: header type mismatch reported')
   call read_profile_file(tmp // 'does_not_exist.prw', PROFILE_WHEEL, p2, error)
   call check(has(error, 'cannot open'), 'missing file reported')
   ! --- writers round trip
-  call read_profile_file(dir // '/reference/profiles/MBench_UIC60_v3.prr', PROFILE_RAIL, prof, error)
+  call read_profile_file(reference_path('profiles/MBench_UIC60_v3.prr'), PROFILE_RAIL, prof, error)
   call check(.not. allocated(error) .and. size(prof%y) == 495, 'v3 rail: 495 points')
   call write_profile_simpack(tmp // 'roundtrip.prr', prof, ['round trip'], error)
   call read_profile_file(tmp // 'roundtrip.prr', PROFILE_RAIL, p2, error)
@@ -159,22 +159,11 @@ contains
     end if
   end function has
 
-  subroutine write_text(path, lines)
-    character(len=*), intent(in) :: path, lines(:)
-    integer :: u, j
-    open (newunit=u, file=tmp // path, status='replace')
-    do j = 1, size(lines)
-      write (u, '(a)') trim(lines(j))
-    end do
-    close (u)
-  end subroutine write_text
-
   subroutine cleanup(paths)
     character(len=*), intent(in) :: paths(:)
-    integer :: u, j, ios
+    integer :: j
     do j = 1, size(paths)
-      open (newunit=u, file=tmp // trim(paths(j)), status='old', iostat=ios)
-      if (ios == 0) close (u, status='delete')
+      call delete_file(tmp // trim(paths(j)))
     end do
   end subroutine cleanup
 

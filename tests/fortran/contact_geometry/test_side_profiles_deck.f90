@@ -17,6 +17,7 @@ program test_side_profiles_deck
   use rd_profile_analytic, only: s1002_profile
   use rd_scene_vehicle, only: build_wheelset_specs
   use geometry_test_support, only: check, failures
+  use test_files, only: scratch_name, delete_file
   implicit none
   type(deck_t) :: deck
   type(error_t), allocatable :: error
@@ -28,7 +29,7 @@ program test_side_profiles_deck
   type(contact_geometry_t) :: geo
   type(profile_t) :: s1002
   real(wp) :: dtip, dend
-  character(len=*), parameter :: moved_wheel = '/tmp/raildyn_test_side_profiles_wheel.txt'
+  character(len=:), allocatable :: moved_wheel
 
   call get_environment_variable('RAILDYN_SOURCE_DIR', env, status=st)
   if (st /= 0) env = '.'
@@ -94,6 +95,7 @@ program test_side_profiles_deck
 
   call s1002_profile(s1002, 1.0e-4_wp, error)
   if (allocated(error)) error stop error%message
+  moved_wheel = scratch_name('test_side_profiles_wheel')
   open (newunit=u, file=moved_wheel, status='replace', action='write')
   write (u, '(a)') '# S1002 moved by +2 mm in s (metres)'
   do k = 1, size(s1002%y)
@@ -116,8 +118,7 @@ program test_side_profiles_deck
     call check(index(error%message, 'right wheel profile') > 0 .and. index(error%message, '.missing') > 0, &
       'the message says which profile and file')
   end if
-  open (newunit=u, file=moved_wheel, status='old')
-  close (u, status='delete')
+  call delete_file(moved_wheel)
 
   if (failures > 0) error stop 1
   write (*, '(a)') 'test_side_profiles_deck: all checks passed'

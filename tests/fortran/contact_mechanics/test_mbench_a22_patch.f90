@@ -1,4 +1,4 @@
-!> Manchester contact benchmark A-2.2 (../shared/reference/mbench_a22/): creep forces of
+!> Manchester contact benchmark A-2.2 (validation/reference/mbench_a22/): creep forces of
 !> FASTSIM and Polach on CONTACT's own patches, against CONTACT's exact (non-Hertzian)
 !> tangential forces. Everything is read from the .ref_out files: creepages (CKSI, CETA,
 !> CPHI [1/mm]), normal force FN, contact-plane forces FX, FS, and the contact area map
@@ -15,27 +15,23 @@ program test_mbench_a22_patch
   use rd_error, only: error_t
   use rd_creep_law
   use rd_creep_factory, only: make_creep_law
+  use test_files, only: reference_path
   implicit none
-  character(len=:), allocatable :: dir
   class(creep_law_t), allocatable :: fastsim, polach
   type(creep_law_options_t) :: options
   type(error_t), allocatable :: error
-  integer :: failures, n_checked, n_flange, length
+  integer :: failures, n_checked, n_flange
   real(wp) :: worst(2), worst_flange
-  character(len=512) :: buffer
 
   failures = 0; n_checked = 0; worst = 0.0_wp; n_flange = 0; worst_flange = 0.0_wp
-  call get_environment_variable('RAILDYN_SHARED_DIR', buffer, length)
-  if (length == 0) buffer = '../shared'
-  dir = trim(buffer) // '/reference/mbench_a22/'
   options%grid_nx = 40; options%grid_ny = 40
   call make_creep_law('fastsim', options, fastsim, error)
   if (allocated(error)) error stop 1
   call make_creep_law('polach', options, polach, error)
   if (allocated(error)) error stop 1
 
-  call check_file(dir // 'mbench_a22_left.ref_out', 'left')
-  call check_file(dir // 'mbench_a22_right.ref_out', 'right')
+  call check_file(reference_path('mbench_a22/mbench_a22_left.ref_out'), 'left')
+  call check_file(reference_path('mbench_a22/mbench_a22_right.ref_out'), 'right')
 
   print '(a,i0,a,2f8.4)', 'patches checked: ', n_checked, '; worst |F|/|F_ref| - 1 (fastsim, polach): ', worst
   print '(a,i0,a,f8.4)', 'flange patches: ', n_flange, '; worst FASTSIM |F|/|F_ref| - 1: ', worst_flange

@@ -1,4 +1,4 @@
-!> Manchester contact benchmark A-2.2 (reference/mbench_a22) through the whole pipeline:
+!> Manchester contact benchmark A-2.2 (validation/reference/mbench_a22) through the whole pipeline:
 !> S1002 v3 wheels on UIC60 v3 rails (1:40, already canted), strip contact, Hertz, FASTSIM
 !> (20 x 20), G = 82 GPa, nu = 0.28, mu = 0.3, V = 2 m/s. Oracle: CONTACT (Kalker's exact
 !> theory), reference.csv; one contact patch per wheel in every reference case.
@@ -69,14 +69,14 @@ program test_wheelset_mbench_a22
   use rd_wheelset_contact, only: wheelset_contact_t, patch_frame_and_point
   use rd_creepage, only: creepage_t, creepages_from_velocities
   use rd_contact_surfaces, only: wheel_radius_at
-  use wheelset_test_support, only: circle_track_t, shared_dir, check, failures, pose_kinematics
+  use wheelset_test_support, only: circle_track_t, check, failures, pose_kinematics
+  use test_files, only: reference_path
   implicit none
   real(wp), parameter :: v = 2.0_wp, q_target = 1.0e4_wp
   type(wheelset_contact_spec_t) :: spec
   type(wheelset_contact_t) :: ws
   type(error_t), allocatable :: error
   type(circle_track_t) :: straight
-  character(len=:), allocatable :: dir
   character(len=600) :: line
   real(wp) :: c(25), yws, yaw, roll_ref, pitch_rate, z, roll, f(3), m(3)
   real(wp) :: ref(2, 5), got(2, 5), tol_c(3), err_c(3), err_f(2), worst_c(3), worst_f(2), floor_c(3)
@@ -90,11 +90,10 @@ program test_wheelset_mbench_a22
   type(creepage_t) :: comb
   real(wp) :: u_comb, gam_comb, sep, worst_self
 
-  dir = shared_dir()
   spec%body = 1
   spec%model = 'profile'
-  spec%wheel_profile = dir // '/reference/profiles/MBench_S1002_v3.prw'
-  spec%rail_profile = dir // '/reference/profiles/MBench_UIC60_v3.prr'
+  spec%wheel_profile = reference_path('profiles/MBench_S1002_v3.prw')
+  spec%rail_profile = reference_path('profiles/MBench_UIC60_v3.prr')
   spec%rail_precant = 0.025_wp
   spec%rail_inclination = 0.025_wp
   spec%nominal_radius = 0.46_wp
@@ -107,7 +106,7 @@ program test_wheelset_mbench_a22
 
   floor_c = [5.0e-5_wp, 1.0e-5_wp, 2.0e-3_wp]
   worst_c = 0; worst_f = 0; ncomp = 0; worst_tr = 0; nmulti = 0; worst_u = 0; worst_self = 0
-  open (newunit=unit, file=dir // '/reference/mbench_a22/reference.csv', status='old', action='read')
+  open (newunit=unit, file=reference_path('mbench_a22/reference.csv'), status='old', action='read')
   read (unit, '(a)') line
   write (*, '(a)') 'case side  xi        ref       | eta       ref       | phi[1/m]  ref       | Fx[N]     ref      | Fy[N]     ref'
   do

@@ -10,7 +10,7 @@ module wheelset_test_support
   use rd_force_provider, only: force_provider_t, body_load_t
   implicit none
   private
-  public :: circle_track_t, shared_dir, check, failures, pose_kinematics, restraint_t, rel_err
+  public :: circle_track_t, check, failures, pose_kinematics, restraint_t, rel_err
 
   integer :: failures = 0
 
@@ -92,24 +92,6 @@ contains
     real(wp), intent(in) :: x, ref
     rel_err = abs(x - ref) / max(abs(ref), tiny(1.0_wp))
   end function rel_err
-
-  !> RAILDYN_SHARED_DIR (set by ctest), else ../shared next to the source tree.
-  function shared_dir() result(dir)
-    character(len=:), allocatable :: dir
-    character(len=1024) :: buf
-    integer :: n, st
-    call get_environment_variable('RAILDYN_SHARED_DIR', buf, n, st)
-    if (st == 0 .and. n > 0) then
-      dir = trim(buf)
-      return
-    end if
-    call get_environment_variable('RAILDYN_SOURCE_DIR', buf, n, st)
-    if (st == 0 .and. n > 0) then
-      dir = trim(buf) // '/../shared'
-    else
-      dir = '../shared'
-    end if
-  end function shared_dir
 
   subroutine check(ok, what)
     logical, intent(in) :: ok

@@ -7,7 +7,7 @@
 program test_survey_track
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use rd_kinds, only: wp
-  use track_test_files, only: scratch_name, write_file, delete_file
+  use test_files, only: scratch_name, write_file, delete_file
   use rd_error, only: error_t, RD_ERR_INPUT, RD_ERR_IO
   use rd_track_point, only: track_point_t
   use rd_track, only: track_t, track_settings_t, segment_spec_t, build_track

@@ -6,7 +6,7 @@
 program test_track_irregularity
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use rd_kinds, only: wp
-  use track_test_files, only: scratch_name, write_file, delete_file
+  use test_files, only: scratch_name, write_file, delete_file
   use rd_error, only: error_t, RD_ERR_INPUT, RD_ERR_IO
   use rd_track_irregularity, only: track_irregularity_t, build_track_irregularity, read_irregularity_file
   implicit none

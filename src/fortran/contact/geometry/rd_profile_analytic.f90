@@ -1,6 +1,6 @@
 !> Analytic profiles: S1002 wheel (EN 13715 / UIC 510-2 sections A-H) and the 60E1 (UIC60)
 !> and 54E1 rail heads (EN 13674-1 arc construction). Definitions and coefficients:
-!> /work/shared/reference/profiles/README.md. Output in metres, our conventions (rd_profile).
+!> validation/reference/profiles/README.md. Output in metres, our conventions (rd_profile).
 module rd_profile_analytic
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT

@@ -4,7 +4,7 @@
 !> `mirror.y`, `mirror.z`, `inversion`, `shift.y`, `shift.z`, `rotate` (in `units.ang.f`
 !> units), points between `point.begin` and `point.end` (`!` starts a comment). In SIMPACK
 !> profile coordinates z points down, which for a wheel is the radius increase F; so the
-!> wheel maps to (s, F) = (y, z) and the rail to (y, -z) (see reference/profiles/README.md).
+!> wheel maps to (s, F) = (y, z) and the rail to (y, -z) (see validation/reference/profiles/README.md).
 !> Tables: two (or three, the third ignored) numbers per line separated by blanks, tabs or
 !> commas; `#` or `!` start comments; metres unless a comment states `units: mm` (or cm, m);
 !> columns are already in our conventions (wheel: s, F; rail: y field-positive, z up).
