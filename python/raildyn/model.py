@@ -57,7 +57,7 @@ class RaildynError(RuntimeError):
 def find_library() -> str:
     """Path of libraildyn.so: env ``RAILDYN_LIB``, else
     ``$RAILDYN_BUILD_DIR/src/c_api/libraildyn.so``, else the repository's
-    ``build/src/c_api/libraildyn.so`` (``/work/main/build`` in the development tree)."""
+    ``build/src/c_api/libraildyn.so``."""
     candidates: list[Path] = []
     if os.environ.get("RAILDYN_LIB"):
         lib = Path(os.environ["RAILDYN_LIB"])
@@ -67,7 +67,6 @@ def find_library() -> str:
     if os.environ.get("RAILDYN_BUILD_DIR"):
         candidates.append(Path(os.environ["RAILDYN_BUILD_DIR"]) / "src/c_api/libraildyn.so")
     candidates.append(Path(__file__).resolve().parents[2] / "build/src/c_api/libraildyn.so")
-    candidates.append(Path("/work/main/build/src/c_api/libraildyn.so"))
     for path in candidates:
         if path.is_file():
             return str(path)

@@ -391,7 +391,7 @@ def freeze_baseline(case: str, results_path: str | os.PathLike, channels: Sequen
     with open(out, "w", newline="") as f:
         f.write(f"# Regression baseline of validation case '{case}', frozen "
                 f"{_dt.datetime.now(_dt.timezone.utc).isoformat(timespec='seconds')} from "
-                f"{os.fspath(results_path)}\n")
+                f"{Path(results_path).name}\n")   # the name only: no machine path in a tracked file
         f.write(f"# raildyn {meta.get('raildyn_version')}, deck sha256 {deck_hash}, run status "
                 f"{meta.get('status')}\n")
         f.write(f"# band: value +- ({rel:g} x channel range over the run + {abs_tol:g}) (SI units)\n")

@@ -57,12 +57,13 @@ def outcomes(*calls):
 """
 
 
-def run_isolated(code: str) -> dict:
-    """Run `code` (after OUTCOMES) in a fresh Python with the package importable; it prints
-    one JSON object."""
+def run_isolated(code: str, cwd) -> dict:
+    """Run `code` (after OUTCOMES) in a fresh Python with the package importable, in the
+    test's own directory `cwd` (string decks write their results there); it prints one JSON
+    object."""
     env = dict(os.environ, PYTHONPATH=str(REPO / "python"))
     proc = subprocess.run([sys.executable, "-c", OUTCOMES + textwrap.dedent(code)], env=env,
-                          capture_output=True, text=True, timeout=120)
+                          capture_output=True, text=True, timeout=120, cwd=cwd)
     assert proc.returncode == 0, f"host process died (status {proc.returncode}):\n{proc.stderr}"
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
@@ -77,7 +78,7 @@ def test_initialize_again_after_unwritable_results_path(tmp_path):
     result = run_isolated(f"""
         m = raildyn.Model.from_file({str(deck)!r})
         print(json.dumps(outcomes(*[lambda: m.initialize(write_output=True)] * 3)))
-    """)
+    """, tmp_path)
     assert [s for s, _ in result] == [RD_ERR_IO] * 3, result
     assert len({m for _, m in result}) == 1 and "missing/r.h5" in result[0][1], result
 
@@ -106,7 +107,7 @@ def test_initialize_again_after_failed_equilibrium(tmp_path):
         out.append([0, str(m.time)])
         m.close()
         print(json.dumps(out))
-    """)
+    """, tmp_path)
     statuses = [s for s, _ in result]
     assert statuses[:3] == [RD_ERR_INPUT] * 3, result
     assert "preload" in result[0][1] and result[0][1] == result[1][1] == result[2][1]
@@ -151,7 +152,7 @@ def test_destroyed_handle_stays_invalid():
     assert lib.rd_destroy(live) == RD_ERR_HANDLE
 
 
-def test_null_arguments_return_a_status():
+def test_null_arguments_return_a_status(tmp_path):
     """Every pointer argument of raildyn.h given as NULL: an input error with a message
     naming the argument, never a segfault; NULL arrays are accepted for size 0 only."""
     result = run_isolated("""
@@ -200,7 +201,7 @@ def test_null_arguments_return_a_status():
         out['still_works'] = [lib.rd_advance(h, 0.5) or lib.rd_get_time(h, ctypes.byref(t)), str(t.value)]
         lib.rd_destroy(h)
         print(json.dumps(out))
-    """)
+    """, tmp_path)
     words = {"create_file_path": "deck_path", "create_string_text": "deck_text", "get_time": "time",
              "get_state_size": "size", "output_count": "count", "output_name": "name",
              "output_name_len": "name_len", "output_size_name": "name", "output_size_size": "size",
@@ -263,7 +264,7 @@ def test_failed_run_recorded_like_the_runner(tmp_path, raildyn_exe):
 
 
 
-def test_calculators_null_arguments():
+def test_calculators_null_arguments(tmp_path):
     """raildyn_calculators.h: each pointer argument NULL in turn gives status 1, the same
     call with every pointer given succeeds."""
     result = run_isolated("""
@@ -288,7 +289,7 @@ def test_calculators_null_arguments():
                "hertz_null": [call_hertz(hertz[:k] + [None] + hertz[k + 1:]) for k in range(len(hertz))],
                "creep_null": [call_creep(creep[:k] + [None] + creep[k + 1:]) for k in range(len(creep))]}
         print(json.dumps(out))
-    """)
+    """, tmp_path)
     assert result["hertz_ok"] == 0 and result["creep_ok"] == 0
     assert result["hertz_null"] == [RD_ERR_INPUT] * 8
     assert result["creep_null"] == [RD_ERR_INPUT] * 4
@@ -383,7 +384,7 @@ def test_random_call_sequences_never_kill_the_host(tmp_path):
         for h in handles:
             lib.rd_destroy(h)
         print(json.dumps({{"statuses": statuses, "problems": problems}}))
-    """)
+    """, tmp_path)
     assert result["problems"] == []
     seen = result["statuses"]
     # the sequence exercised successes and every kind of refusal

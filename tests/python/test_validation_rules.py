@@ -273,6 +273,7 @@ def test_freeze_and_compare_baseline(make_results_file, tmp_path):
                             rel=0.01, abs_tol=1e-7)
     text = out.read_text()
     assert text.startswith("# Regression baseline") and "raildyn 0.1.0" in text
+    assert " from run.h5\n" in text and str(tmp_path) not in text   # no machine path in the header
     band = V.read_band_csv(out)["bodies/ws1/position_track:y"]
     assert np.allclose(band[2], y - (0.01 * np.ptp(y) + 1e-7), atol=1e-12)
     assert V.compare_band_curve(t, y, band[0], band[2], band[3])[0]
