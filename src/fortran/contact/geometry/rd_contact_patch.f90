@@ -36,6 +36,10 @@ module rd_contact_patch
     real(wp) :: u_rail_min = 0        !< patch extent: range of the interpenetration strips
     real(wp) :: u_rail_max = 0        !< on the rail profile coordinate [m]
     real(wp) :: strip_length = 0      !< length of the deepest strip (thesis eq. 4.72) [m]
+    !> Share of a blended bump description (rd_strip_contact split_run): the patch carries
+    !> this fraction of the forces of the bump it describes; its penetration is
+    !> share^(2/3) times the bump's (so that Hertz gives share times the bump's normal force).
+    real(wp) :: share = 1
   end type contact_patch_t
 
   type :: wheel_contact_t

@@ -215,6 +215,8 @@ contains
         if (kv > 0 .and. top + 2 <= stack_size) then
           lambda = 1 - v / ((1 - virtual_eps) * min(maxval(delta(a:kv)), maxval(delta(kv:b))))
           lambda = min(max(lambda, 0.0_wp), 1.0_wp)
+          ! C1 ramp (smoothstep): the linear ramp's slope jumped where the split starts/ends
+          lambda = lambda * lambda * (3 - 2 * lambda)
         end if
         if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, np, patch)
         if (lambda > 0) then
@@ -243,6 +245,7 @@ contains
         if (patch(iw)%penetration >= pen) return
       end if
       call fill_patch(patch(iw), a, b, kc, pen, r1, r2)
+      patch(iw)%share = wn
     end subroutine add_patch
 
     !> Deepest penetration of rail line i into the wheel (strip i).

@@ -359,16 +359,20 @@ contains
           hp = hertz_patch_t()
           nf = bounded_damped_force(m%flange_stiffness * p%penetration, m%damping, rate)
         else
+          ! a blended patch (share < 1) is that share of its bump's full description: the
+          ! bump's ellipse and creep forces, scaled (its penetration share^(2/3) delta gives
+          ! N = share N_bump by itself, but an ellipse growing like share^(1/3), whose creep
+          ! forces rose with infinite slope where a split began)
           call hertz_from_penetration(m%hertz, [p%curv_wheel_roll, p%curv_wheel_lat, &
-                                      p%curv_rail_roll, p%curv_rail_lat], p%penetration, hp)
-          nf = bounded_damped_force(hp%normal_force, m%damping, rate)
+                                      p%curv_rail_roll, p%curv_rail_lat], p%penetration / p%share**(2.0_wp / 3), hp)
+          nf = bounded_damped_force(p%share * hp%normal_force, m%damping, rate)
           ! creepages (thesis 3.6.1; eqs. 4.80-4.86): wheel material point relative to the rail
           ! (the rail material moves with v_rail, translation only: a rail body's rotations
           ! are frozen)
           call creepages_from_velocities(kin%v, v_c, v_rail, kin%omega, zero3, frame, m%v0, creep)
           cp%a = hp%a
           cp%b = hp%b
-          cp%normal_force = nf
+          cp%normal_force = nf / p%share
           cp%shear_modulus = m%hertz%shear_modulus
           cp%poisson = m%hertz%poisson
           cp%friction = m%friction
@@ -378,6 +382,7 @@ contains
           else
             call m%law%compute(cp, creepage_t(xi=creep%xi, eta=creep%eta, phi=0.0_wp, v_ref=creep%v_ref), cf)
           end if
+          cf = creep_force_t(fx=p%share * cf%fx, fy=p%share * cf%fy, mz=p%share * cf%mz)
         end if
         ! forces on the wheel (thesis 4.90 in contact components, 4.96 spin couple)
         f = nf * n + cf%fx * xc + cf%fy * yc
