@@ -18,38 +18,115 @@ pytestmark = pytest.mark.validation_rules
 # ---------------------------------------------------------------- acceptance rule
 
 def test_band_verdict_closed_form():
-    pk = [1.0, 2.0, -3.0, 4.0, 5.0]            # magnitudes 1..5: median 3, band [0.7, 5.3]
-    v = V.band_verdict(5.3, pk)
-    assert v.within and v.off_percent == pytest.approx(100 * 0.3 / 3)
-    assert (v.band_lower, v.band_upper) == pytest.approx((0.7, 5.3))
-    assert not V.band_verdict(5.31, pk).within
-    assert V.band_verdict(6.0, pk).off_percent == pytest.approx(100 / 3)
-    assert V.band_verdict(-2.5, pk).within and V.band_verdict(-2.5, pk).off_percent == 0.0
-    low = V.band_verdict(0.5, pk)
-    assert not low.within and low.off_percent == pytest.approx(100 * 0.5 / 3)
+    pk = [1.0, 2.0, -3.0, 4.0, 5.0]            # magnitudes 1..5, S = 10: band [0, 6]
+    v = V.band_verdict(6.0, pk, 10.0)
+    assert v.within and v.off_percent == pytest.approx(10.0)
+    assert (v.lower, v.upper, v.band_lower, v.band_upper) == pytest.approx((1.0, 5.0, 0.0, 6.0))
+    assert not V.band_verdict(6.01, pk, 10.0).within
+    assert V.band_verdict(-7.0, pk, 10.0).off_percent == pytest.approx(20.0)
+    assert V.band_verdict(-2.5, pk, 10.0).within and V.band_verdict(-2.5, pk, 10.0).off_percent == 0.0
+    small = V.band_verdict(0.5, pk, 2.0)       # band [0.8, 5.2]: below it, off 0.5 / 2
+    assert not small.within and small.off_percent == pytest.approx(25.0)
     with pytest.raises(ValueError):
-        V.band_verdict(float("nan"), pk)
-    with pytest.raises(ValueError):
-        V.band_verdict(1.0, [0.0, 0.0, 0.0])
+        V.band_verdict(float("nan"), pk, 10.0)
+    for bad_scale in (0.0, -1.0, float("inf")):
+        with pytest.raises(ValueError, match="scale"):
+            V.band_verdict(1.0, pk, bad_scale)
 
 
-def _verdicts(values, packages=(9.0, 9.5, 10.0, 10.5, 11.0)):
-    return [V.band_verdict(x, packages) for x in values]
+def _family_scales_by_hand(entries, packages):
+    """S per family written out: the middle of the sorted magnitudes (odd count) or the mean of
+    the two middle ones, the largest over the family's entries."""
+    out = {}
+    for e in entries:
+        m = sorted(abs(e.values[p]) * V.UNIT_SCALE[e.unit] for p in packages)
+        n = len(m)
+        med = m[n // 2] if n % 2 else 0.5 * (m[n // 2 - 1] + m[n // 2])
+        out[e.quantity] = max(out.get(e.quantity, 0.0), med)
+    return out
 
 
-def test_acceptance_rule_fraction_and_worst_entry():
-    # band [8, 12]; 'off by' relative to [9, 11] in % of 10
-    ok = V.manchester_acceptance(_verdicts([10.0] * 9 + [12.5]))      # 1 of 10 out, off 15%
-    assert ok.passed and ok.fraction_within == pytest.approx(0.9)
-    assert ok.max_off_percent == pytest.approx(15.0)
-    two_out = V.manchester_acceptance(_verdicts([10.0] * 8 + [12.5, 7.5]))
-    assert not two_out.passed and two_out.fraction_within == pytest.approx(0.8)
-    far = V.manchester_acceptance(_verdicts([10.0] * 19 + [14.2]))     # 95% in, one off 32%
-    assert far.fraction_within == pytest.approx(0.95) and not far.passed
-    assert far.max_off_percent == pytest.approx(32.0)
-    edge = V.manchester_acceptance(_verdicts([10.0] * 19 + [13.9]))    # off 29%
-    assert edge.passed
-    assert not V.manchester_acceptance([]).passed
+def test_family_scales():
+    entries = V.load_package_table()
+    s = V.family_scales(entries)
+    assert set(s) == {"lateral_shift", "yaw", "longitudinal_force", "lateral_force", "vertical_force"}
+    assert s == pytest.approx(_family_scales_by_hand(entries, V.PACKAGES), rel=1e-12)
+    # four packages: medians are means of two values
+    four = V.PACKAGES[1:]
+    assert V.family_scales(entries, four) == pytest.approx(_family_scales_by_hand(entries, four), rel=1e-12)
+    # yaw: wheelset 1's median (15.773 mrad), not yaw ws2's 0.852
+    assert s["yaw"] == pytest.approx(15.773e-3)
+
+
+def _values_at(entries, where):
+    """Signed SI values for every entry: ``where(entry, lo, hi, S)`` gives its magnitude."""
+    scales = V.family_scales(entries)
+    out = {}
+    for e in entries:
+        m = e.magnitudes_si()
+        out[e.key] = -e.consensus_sign() * where(e, m.min(), m.max(), scales[e.quantity])
+    return out
+
+
+def test_acceptance_rule_count_and_worst_entry():
+    """29 of 32 inside and no entry off by more than 20 % of S: each limit on both sides."""
+    entries = V.load_package_table()
+    keys = [e.key for e in entries]
+
+    def outside(chosen, off):        # entries in ``chosen`` above the range by ``off`` x S
+        return _values_at(entries, lambda e, lo, hi, s: hi + off * s if e.key in chosen else 0.5 * (lo + hi))
+
+    mid = V.manchester_acceptance(outside((), 0.0), entries)
+    assert mid.passed and (mid.n_inside, mid.n_entries, mid.max_off_percent) == (32, 32, 0.0)
+    three = V.manchester_acceptance(outside(keys[:3], 0.11), entries)
+    assert three.passed and three.n_inside == 29 and three.max_off_percent == pytest.approx(11.0)
+    assert [v.within for v in three.verdicts[:4]] == [False, False, False, True]
+    four = V.manchester_acceptance(outside(keys[:4], 0.11), entries)
+    assert not four.passed and four.n_inside == 28
+    at_limit = V.manchester_acceptance(outside(keys[5:6], 0.1999), entries)
+    assert at_limit.passed and at_limit.worst == keys[5]
+    too_far = V.manchester_acceptance(outside(keys[5:6], 0.2001), entries)
+    assert not too_far.passed and too_far.n_inside == 31 and too_far.worst == keys[5]
+    assert too_far.max_off_percent == pytest.approx(20.01)
+    # near zero: yaw ws2 at twice the packages' largest value is 7 % of S off, inside
+    yaw2 = V.manchester_acceptance(_values_at(entries, lambda e, lo, hi, s: 2 * hi if e.key == "yaw ws2"
+                                              else 0.5 * (lo + hi)), entries)
+    v = yaw2.verdicts[keys.index("yaw ws2")]
+    assert v.within and v.off_percent == pytest.approx(100 * 1.129 / 15.773)
+    with pytest.raises(ValueError, match="no value for yaw ws2"):
+        V.manchester_acceptance({k: 1.0 for k in keys if k != "yaw ws2"}, entries)
+
+
+def _package_values(entries, column):
+    """A column of the tables as signed SI values ('VIA' or a package)."""
+    return {e.key: (e.via if column == "VIA" else e.values[column]) * V.UNIT_SCALE[e.unit] for e in entries}
+
+
+def test_rule_leave_one_out_accepts_every_package():
+    """Each package against the other four passes the rule: the rule does not reject the
+    benchmark's own results. Worst of the five 9.7 % of S (ADAMS's longitudinal force ws1 left;
+    measured 2026-11-25, the figure of issue 12)."""
+    entries = V.load_package_table()
+    worst = {}
+    for p in V.PACKAGES:
+        out = V.manchester_acceptance(_package_values(entries, p), entries, [q for q in V.PACKAGES if q != p])
+        print(f"{p:8s} against the other four: {out.n_inside} of {out.n_entries} inside, worst "
+              f"{out.max_off_percent:.1f} % of S ({out.worst})")
+        assert out.passed, (p, out.n_inside, out.max_off_percent, out.worst)
+        worst[p] = out.max_off_percent
+    assert max(worst.values()) == pytest.approx(9.7, abs=0.05)
+    assert max(worst, key=worst.get) == "ADAMS"
+
+
+def test_rule_rejects_the_thesis_via():
+    """The thesis' own code VIA against the five packages fails: 22 of 32 inside, worst 52 % of S
+    (its longitudinal forces; issue 12's figures)."""
+    entries = V.load_package_table()
+    out = V.manchester_acceptance(_package_values(entries, "VIA"), entries)
+    print(f"VIA against the five packages: {out.n_inside} of {out.n_entries} inside, worst "
+          f"{out.max_off_percent:.1f} % of S ({out.worst})")
+    assert not out.passed and out.n_inside == 22
+    assert out.max_off_percent == pytest.approx(52.0, abs=0.5) and out.worst.startswith("longitudinal_force")
 
 
 # ---------------------------------------------------------------- reference tables
@@ -344,7 +421,7 @@ def test_manchester_case_end_to_end(make_results_file, tmp_path):
     assert res.error == "" and res.passed, res.summary()
     chk = {c.name: c for c in res.checks}
     assert chk["wheel-rail contact outputs present"].passed
-    assert chk["entries inside the widened package band"].value == pytest.approx(1.0)
+    assert chk["entries inside the widened package band"].value == 32
     assert chk["largest deviation from the package range"].value == pytest.approx(0.0)
     assert len(res.tables[0].rows) == 32 and len(res.plots) >= 5
     assert any("ASSUMPTION" not in a and "right-hand curve" in a for a in res.assumptions)
@@ -359,7 +436,9 @@ def test_manchester_case_end_to_end(make_results_file, tmp_path):
     assert html.count("data:image/png;base64,") == len(res.plots)
     assert not re.search(r"(src|href)=['\"](https?:|//)", html), "report must be self-contained"
 
-    # four entries 40% too large: 28/32 = 87.5% inside, worst off 36% of the median -> fail
+    # four entries 40% above the package median: each off by 33-39 % of its family's S, 28 of
+    # 32 inside -> both parts fail; the worst is vertical_force ws2 right (68.62 x 0.4 above a
+    # median that is the family's S, from 69.399: 39 %)
     bad = {"lateral_shift ws1": 1.4, "yaw ws3": 1.4, "vertical_force ws2 right": 1.4,
            "lateral_force ws1 left": 1.4}
     t, series = _manchester_file(make_results_file, bad)
@@ -368,9 +447,18 @@ def test_manchester_case_end_to_end(make_results_file, tmp_path):
     assert not res.passed
     chk = {c.name: c for c in res.checks}
     inside = chk["entries inside the widened package band"]
-    assert inside.value == pytest.approx(28 / 32) and not inside.passed
+    assert inside.value == 28 and not inside.passed
     worst = chk["largest deviation from the package range"]
-    assert not worst.passed and worst.value > 30.0
+    assert not worst.passed and worst.value == pytest.approx(100 * (1.4 * 68.62 - 69.399) / 68.62, abs=0.01)
+    assert worst.detail == "worst entry: vertical_force ws2 right"
+    # a near-zero entry far off its own median but close for its family (yaw ws2 at 1.8 mrad
+    # against 0.51-1.13 mrad, 4.3 % of S = 15.773 mrad) stays inside
+    t, series = _manchester_file(make_results_file, {"yaw ws2": 1.8 / 0.83})   # median 0.83 mrad
+    make_results_file("out/manchester_v1_tc1.h5", t, series, meta_attrs={"status": "completed"})
+    res = V.run_case("manchester_v1_tc1", out, reuse=True)
+    assert res.passed, res.summary()
+    row = next(r for r in res.tables[0].rows if r[0] == "yaw ws2")
+    assert row[5] == "15.77" and float(row[7]) == pytest.approx(100 * (1.8 - 1.129) / 15.773, abs=0.05)
 
 
 def test_cli_evaluates_a_given_results_file(make_results_file, tmp_path, capsys):
