@@ -30,16 +30,7 @@ def finished():
 # Known failures, visible in every test report (xfail), with the reason; the issue that asks
 # for these cases stays open until they pass. strict=True: a case that starts passing turns
 # the test red, so the mark cannot outlive the problem.
-KNOWN_FAILURES = {
-    "manchester_v1_tc1": pytest.mark.xfail(
-        strict=True, reason="yaw ws2 is 78-88% off (1.78-1.86 vs 0.43-1.21 mrad; none may exceed "
-                            "30%): our wheelsets sit at the rigid flange-contact jump (6.2-6.3 mm, as "
-                            "in the A-2.2 geometry), the packages' 1.3-1.8 mm further. 27 to 29 of 32 "
-                            "entries lie in the widened band (90% required) depending on which of two "
-                            "states the chaotically bouncing wheelset 1 settles in. With the gauge "
-                            "widened by 1.5-3 mm (study, docs/validation.md) the rule passes: the "
-                            "packages' flange clearance is not in our data"),
-}
+KNOWN_FAILURES: dict = {}
 
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=[pytest.mark.validation, getattr(pytest.mark, n)]
