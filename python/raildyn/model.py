@@ -256,7 +256,8 @@ class Model:
         self._check(self._lib.rd_finalize(self.handle))
 
     def close(self) -> None:
-        """Free the model (closes its output file if still open). Idempotent."""
+        """Free the model (closes its output file if still open: status 'completed' if the
+        deck's t_end was reached, else 'stopped'; ``finalize`` records 'completed'). Idempotent."""
         if self._handle != 0:
             handle, self._handle = self._handle, 0
             status = self._lib.rd_destroy(_rd_handle(handle))

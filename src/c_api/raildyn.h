@@ -98,7 +98,8 @@ int rd_error_message(rd_handle handle, char *message, int message_len);
  * NUL-terminated, truncated to notes_len - 1 characters. */
 int rd_run_notes(rd_handle handle, char *notes, int notes_len);
 
-/* Free everything the handle owns (closes the output if still open). The handle is
+/* Free everything the handle owns. An output still open (no rd_finalize()) is closed with
+ * /meta status "completed" if the deck's t_end was reached, else "stopped". The handle is
  * invalid from then on (RD_ERR_HANDLE), also for a second rd_destroy(). */
 int rd_destroy(rd_handle handle);
 

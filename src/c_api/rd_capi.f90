@@ -412,7 +412,7 @@ contains
     type(error_t), allocatable :: error
     call lookup(handle, model, status)
     if (status /= RD_OK) return
-    call model%scene%finalize(error)   ! closes the output if still open; errors are moot now
+    call model%scene%stop(error)   ! closes the output if still open; errors are moot now
     call model%scene%destroy()
     call forget_model(handle)
     deallocate (model)

@@ -264,6 +264,26 @@ def test_failed_run_recorded_like_the_runner(tmp_path, raildyn_exe):
 
 
 
+def test_destroyed_before_t_end_reads_stopped(tmp_path):
+    """A host that leaves a run (an exception in its own code) before the deck's t_end
+    without finalize: the file says 'stopped', not 'completed'; at t_end it says
+    'completed' with or without finalize."""
+    deck = tmp_path / "s.nml"
+    deck.write_text(mass_deck(equilibrium="none", output=", file = 'half.h5'"))
+    with pytest.raises(ZeroDivisionError):
+        with raildyn.Model.from_file(deck) as m:
+            m.initialize()
+            m.advance(1.0)                 # t_end = 2 s
+            1 / 0
+    (tmp_path / "full.nml").write_text(deck.read_text().replace("half.h5", "full.h5"))
+    with raildyn.Model.from_file(tmp_path / "full.nml") as m:
+        m.initialize()
+        m.advance(2.0)
+    for name, status, rows in (("half.h5", "stopped", 101), ("full.h5", "completed", 201)):
+        r = raildyn.Results(tmp_path / name)
+        assert r.metadata["status"] == status and len(r.time) == rows, name
+
+
 def test_calculators_null_arguments(tmp_path):
     """raildyn_calculators.h: each pointer argument NULL in turn gives status 1, the same
     call with every pointer given succeeds."""

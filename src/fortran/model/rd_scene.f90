@@ -104,6 +104,7 @@ module rd_scene
     procedure :: initialize => scene_initialize
     procedure :: advance => scene_advance
     procedure :: finalize => scene_finalize
+    procedure :: stop => scene_stop
     procedure :: set_output_file => scene_set_output_file
     procedure :: time => scene_time
     procedure :: end_time => scene_end_time
@@ -901,6 +902,19 @@ contains
     type(error_t), allocatable, intent(out) :: error
     call close_output(self, 'completed', error)
   end subroutine scene_finalize
+
+  !> Close the output of a run its caller ends without finalize (the C API's rd_destroy):
+  !> 'completed' once the deck's t_end is reached, else 'stopped' (docs/output.md), so that
+  !> a host that gave up half-way does not leave a file that reads as a complete run.
+  subroutine scene_stop(self, error)
+    class(scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: error
+    if (self%t >= self%t_end - 1e-9_wp * max(1.0_wp, abs(self%t_end))) then
+      call close_output(self, 'completed', error)
+    else
+      call close_output(self, 'stopped', error)
+    end if
+  end subroutine scene_stop
 
   subroutine close_output(self, status, error)
     type(scene_t), intent(inout) :: self
