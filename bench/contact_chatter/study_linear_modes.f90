@@ -14,6 +14,7 @@ program study_linear_modes
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t
   use rd_scene, only: scene_t
+  use study_support, only: start_scene, stop_on
   use rd_multibody, only: multibody_t
   implicit none
   type(scene_t) :: scene, scene2
@@ -34,20 +35,16 @@ program study_linear_modes
   end if
   deck2 = deck
   if (command_argument_count() > 3) call get_command_argument(4, deck2)
-  call scene%load_file(trim(deck), error); call check()
-  call scene%build(error); call check()
-  call scene%initialize(.false., error); call check()
+  call start_scene(trim(deck), scene)
   if (t_lin > 0) then
-    call scene%advance(t_lin, error); call check()
+    call scene%advance(t_lin, error); call stop_on(error)
   end if
   n = scene%state_size()
   allocate (y(n), yp(n), fp(n), fm(n), jac(n, n), wr(n), wi(n), vr(n, n), vl(1, 1))
-  call scene%get_state(y, error); call check()
+  call scene%get_state(y, error); call stop_on(error)
   mbs => scene%system()
   if (deck2 /= deck) then
-    call scene2%load_file(trim(deck2), error); call check()
-    call scene2%build(error); call check()
-    call scene2%initialize(.false., error); call check()
+    call start_scene(trim(deck2), scene2)
     if (scene2%state_size() /= n) then
       print '(a)', 'error: the second deck has another state size'
       stop 1
@@ -64,9 +61,9 @@ program study_linear_modes
     h = 1.0e-7_wp * max(1.0e-2_wp, abs(y(j)))
     if (j <= nfree) h = 2.0e-9_wp            ! coordinates: m or rad (Hertz approach ~50 um)
     yp = y; yp(j) = y(j) + h
-    call mbs%rhs(scene%time(), yp, fp, error, recoverable); call check()
+    call mbs%rhs(scene%time(), yp, fp, error, recoverable); call stop_on(error)
     yp(j) = y(j) - h
-    call mbs%rhs(scene%time(), yp, fm, error, recoverable); call check()
+    call mbs%rhs(scene%time(), yp, fm, error, recoverable); call stop_on(error)
     jac(:, j) = (fp - fm) / (2 * h)
   end do
   lwork = 8 * n
@@ -89,13 +86,6 @@ program study_linear_modes
   call scene%destroy()
 
 contains
-
-  subroutine check()
-    if (allocated(error)) then
-      print '(a)', 'error: ' // error%message
-      stop 1
-    end if
-  end subroutine check
 
   !> Two largest displacement components of the complex eigenvector (columns j, j+1).
   subroutine dominant(j, order)

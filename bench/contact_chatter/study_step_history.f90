@@ -7,6 +7,7 @@ program study_step_history
   use rd_kinds, only: wp, i8
   use rd_error, only: error_t
   use rd_scene, only: scene_t
+  use study_support, only: start_scene, stop_on
   use rd_integrator, only: integrator_stats_t
   implicit none
   type(scene_t) :: scene
@@ -16,26 +17,17 @@ program study_step_history
   real(wp) :: dt, t
   call get_command_argument(1, deck)
   call get_command_argument(2, arg); read (arg, *) dt
-  call scene%load_file(trim(deck), error); call check()
-  call scene%build(error); call check()
-  call scene%initialize(.false., error); call check()
+  call start_scene(trim(deck), scene)
   print '(a)', '    t_end [s]    steps  err.fail  newt.fail   last h [s]'
   t = 0
   s0 = integrator_stats_t()
   do while (t < scene%end_time() - 1.0e-9_wp)
     t = min(t + dt, scene%end_time())
-    call scene%advance(t, error); call check()
+    call scene%advance(t, error); call stop_on(error)
     call scene%integrator_stats(s1)
     print "(f13.3, i9, i10, i11, es13.3, i6)", t, s1%steps - s0%steps, s1%error_test_failures - s0%error_test_failures, &
       s1%nonlinear_conv_failures - s0%nonlinear_conv_failures, s1%last_step, s1%current_order
     s0 = s1
   end do
   call scene%destroy()
-contains
-  subroutine check()
-    if (allocated(error)) then
-      print '(a)', 'error: ' // error%message
-      stop 1
-    end if
-  end subroutine check
 end program study_step_history
