@@ -337,15 +337,17 @@ def run_one(exe: Path, run: Path, runner: str | None = None) -> dict[str, Any] |
     status_file = run / "status.json"
     runner = runner or runner_identity(exe)
     digest = inputs_digest(runner, exe, run)
+    rerun_reason = ""
     if digest is not None and status_file.exists():
         try:
             old = json.loads(status_file.read_text())
         except json.JSONDecodeError:
             old = {}
-        if old.get("exit_code") == 0 and old.get("inputs_sha256") == digest and \
-                _completed_results(run / "results.h5"):
-            old["reused"] = True
-            return old
+        if old.get("exit_code") == 0 and old.get("inputs_sha256") == digest:
+            if _completed_results(run / "results.h5"):
+                old["reused"] = True
+                return old
+            rerun_reason = "its results file was damaged or incomplete"
     # nothing of an earlier attempt may be read as this run's outcome (_failure)
     status_file.unlink(missing_ok=True)
     (run / "results.h5").unlink(missing_ok=True)
@@ -355,6 +357,8 @@ def run_one(exe: Path, run: Path, runner: str | None = None) -> dict[str, Any] |
         return None
     status = {"exit_code": code, "wall_time": time.time() - t0,
               "inputs_sha256": digest, "runner": runner, "reused": False}
+    if rerun_reason:
+        status["rerun_reason"] = rerun_reason
     if code != 0:
         status["error"], status["failed_at"] = _failure(run)
     status_file.write_text(json.dumps(status, indent=1))
@@ -513,6 +517,8 @@ def run_campaign(campaign: Campaign, jobs: int | None = None, executor: str | No
                 continue
             state = "reused" if status.get("reused") else (
                 "ok" if status["exit_code"] == 0 else f"failed ({status.get('error', '')})")
+            if status.get("rerun_reason"):
+                state += f", run again because {status['rerun_reason']}"
             progress(f"[{done}/{len(runs)}] {d.name}: {state}")
     except KeyboardInterrupt:
         # Stop the runs in flight (unrecorded: a rerun resumes them) and start no other;
