@@ -22,7 +22,9 @@
 !>
 !> Creepage sweeps through each creep law directly, for the patch of the centred wheelset
 !> (a, b, N of the first level's left wheel at y = 0, yaw 0 at delta0): xi and eta over +-5e-3, spin
-!> over +-4 1/m (others zero), and eta at spin 1.5 1/m (a flange patch's spin).
+!> over +-4 1/m (others zero), and eta at spin 1.5 1/m (a flange patch's spin); and the patch
+!> itself at xi = eta = 1e-3, spin 0.5 1/m: a/b from 0.2 to 5 at constant a b (uniform in
+!> ln(a/b)), and N from 0.5 to 1.5 times its value with a, b scaled as N^(1/3) (Hertz).
 !>
 !> Jumps and kinks: rd_sweep_smoothness (find_jumps_and_kinks, ratio 20, window 10), with a
 !> floor of 5e-8 of each output's scale (forces Q0, moments Q0 x 1 m, creep forces mu N,
@@ -91,7 +93,7 @@ program bench_contact_smoothness
 
   !> One sweep's samples and what they mean.
   type :: sweep_t
-    character(len=60) :: name = ''
+    character(len=90) :: name = ''
     character(len=8) :: x_unit = ''       !< unit of x as printed
     real(wp) :: x_print = 1               !< factor from SI x to the printed unit
     character(len=12) :: x_si_unit = ''   !< SI unit of x (for kink sizes)
@@ -118,7 +120,25 @@ program bench_contact_smoothness
   real(wp) :: delta0, t_start, t_end
   integer :: csv_unit, k
 
+  !> One feature of the detailed level, for the list of the largest.
+  type :: listed_feature_t
+    character(len=90) :: sweep = ''
+    character(len=12) :: output = ''
+    character(len=4) :: unit = ''
+    character(len=12) :: x_si_unit = ''
+    character(len=8) :: x_unit = ''
+    real(wp) :: x_print = 1
+    real(wp) :: step = 0                  !< the sweep's sample step [SI unit of x]
+    type(smoothness_feature_t) :: feature
+    real(wp) :: relative = 0
+  end type listed_feature_t
+  !> Index in pose_levels of the level listed feature by feature (the deck's default).
+  integer, parameter :: detail_level = 2
+  integer, parameter :: n_listed = 12
+  type(listed_feature_t), allocatable :: listed(:)
+
   call read_arguments()
+  allocate (listed(0))
   all_pose = [character(len=240) :: pose_levels, extra_pose]
   all_creep = [character(len=240) :: creep_levels, extra_creep]
   csv_unit = 0
@@ -437,7 +457,8 @@ contains
       call cpu_time(t1)
       cost(lv) = t1 - t0
       do sw = 1, nsweep
-        rows(sw, lv) = analyse(level_label(all_pose(lv)), sweeps(sw), outs, with_positions=.true.)
+        rows(sw, lv) = analyse(level_label(all_pose(lv)), sweeps(sw), outs, with_positions=.true., &
+                               keep=lv == detail_level)
       end do
     end do
     do sw = 1, nsweep
@@ -451,6 +472,9 @@ contains
         write (*, '(a)') trim(rows(sw, lv))
       end do
     end do
+    write (*, '(a)') ''
+    call print_largest(FEATURE_JUMP, 'jumps')
+    call print_largest(FEATURE_KINK, 'kinks')
     write (*, '(a)') ''
     write (*, '(a)') 'CPU s per level (' // trim(int_text(nsweep)) // ' pose sweeps of ' // trim(int_text(npoints)) // &
       ' samples, the paths included): ' // trim(cost_list(cost, all_pose)) // '.'
@@ -524,9 +548,13 @@ contains
     class(creep_law_t), allocatable :: law
     type(wheelset_contact_spec_t) :: spec
     type(error_t), allocatable :: error
-    type(sweep_t) :: sweeps(4)
+    integer, parameter :: nsweep = 6
+    !> creepages of the patch sweeps: partial slip, near the flange-root spin
+    real(wp), parameter :: patch_creep(3) = [1.0e-3_wp, 1.0e-3_wp, 0.5_wp]
+    type(sweep_t) :: sweeps(nsweep)
     type(output_t) :: outs(n_creep_out)
     type(creep_force_t) :: cf
+    type(contact_patch_t) :: p
     character(len=400), allocatable :: rows(:, :)
     real(wp) :: c(3)
     integer :: lv, i, sw
@@ -537,38 +565,53 @@ contains
     sweeps(2)%name = 'eta (xi = spin = 0)'
     sweeps(3)%name = 'spin (xi = eta = 0)'
     sweeps(4)%name = 'eta at spin 1.5 1/m'
+    sweeps(5)%name = 'ellipse ln(a/b) at constant a b (xi = eta = 1e-3, spin 0.5 1/m)'
+    sweeps(6)%name = 'normal force, a and b ~ N^(1/3) as Hertz (xi = eta = 1e-3, spin 0.5 1/m)'
     sweeps%x_unit = '-'; sweeps%x_print = 1; sweeps%x_si_unit = '-'
     sweeps(3)%x_unit = '1/m'; sweeps(3)%x_si_unit = '1/m'
+    sweeps(6)%x_unit = 'kN'; sweeps(6)%x_print = 1.0e-3_wp; sweeps(6)%x_si_unit = 'N'
     sweeps(1)%x = [(-5.0e-3_wp + 1.0e-2_wp * (i - 1) / (npoints - 1), i = 1, npoints)]
     sweeps(2)%x = sweeps(1)%x
     sweeps(3)%x = [(-4.0_wp + 8.0_wp * (i - 1) / (npoints - 1), i = 1, npoints)]
     sweeps(4)%x = sweeps(1)%x
-    do sw = 1, 4
+    ! a/b from 0.2 to 5 (Kalker's tables span 0.1..10)
+    sweeps(5)%x = [(log(0.2_wp) + 2 * log(5.0_wp) * (i - 1) / (npoints - 1), i = 1, npoints)]
+    sweeps(6)%x = [(patch%normal_force * (0.5_wp + real(i - 1, wp) / (npoints - 1)), i = 1, npoints)]
+    do sw = 1, nsweep
       allocate (sweeps(sw)%values(npoints, n_creep_out))
     end do
-    allocate (rows(4, size(all_creep)))
+    allocate (rows(nsweep, size(all_creep)))
     do lv = 1, size(all_creep)
       spec = default_spec()
       call apply_level(spec, all_creep(lv))
       call make_creep_law(spec%creep_law, spec%creep_options, law, error)
       if (allocated(error)) error stop 'bench_contact_smoothness: level ' // trim(all_creep(lv)) // ': ' // error%message
-      do sw = 1, 4
+      do sw = 1, nsweep
         do i = 1, npoints
+          p = patch
+          c = patch_creep
           select case (sw)
           case (1); c = [sweeps(sw)%x(i), 0.0_wp, 0.0_wp]
           case (2); c = [0.0_wp, sweeps(sw)%x(i), 0.0_wp]
           case (3); c = [0.0_wp, 0.0_wp, sweeps(sw)%x(i)]
-          case default; c = [0.0_wp, sweeps(sw)%x(i), 1.5_wp]
+          case (4); c = [0.0_wp, sweeps(sw)%x(i), 1.5_wp]
+          case (5)
+            p%a = sqrt(patch%a * patch%b) * exp(0.5_wp * sweeps(sw)%x(i))
+            p%b = sqrt(patch%a * patch%b) * exp(-0.5_wp * sweeps(sw)%x(i))
+          case default
+            p%normal_force = sweeps(sw)%x(i)
+            p%a = patch%a * (sweeps(sw)%x(i) / patch%normal_force)**(1.0_wp / 3)
+            p%b = patch%b * (sweeps(sw)%x(i) / patch%normal_force)**(1.0_wp / 3)
           end select
-          call law%compute(patch, creepage_t(xi=c(1), eta=c(2), phi=c(3), v_ref=speed), cf)
+          call law%compute(p, creepage_t(xi=c(1), eta=c(2), phi=c(3), v_ref=speed), cf)
           sweeps(sw)%values(i, :) = [cf%fx, cf%fy, cf%mz]
         end do
         rows(sw, lv) = analyse(level_label(all_creep(lv)), sweeps(sw), outs, with_positions=.false.)
       end do
     end do
-    do sw = 1, 4
+    do sw = 1, nsweep
       write (*, '(a)') ''
-      write (*, '(a)') '#### Creepage sweep: ' // trim(sweeps(sw)%name)
+      write (*, '(a)') '#### Creep law sweep: ' // trim(sweeps(sw)%name) // ' (x in ' // trim(sweeps(sw)%x_unit) // ')'
       write (*, '(a)') ''
       write (*, '(a)') '| creep law | jumps | largest jump | kinks | largest kink |'
       write (*, '(a)') '|---|---|---|---|---|'
@@ -578,14 +621,49 @@ contains
     end do
   end subroutine creep_sweeps
 
+  !> The n_listed largest force features of one kind of the detailed level (all pose sweeps),
+  !> by relative size, one per place (the largest output there; the others within 3 samples
+  !> of it in the same sweep are counted in 'outputs').
+  subroutine print_largest(kind, what)
+    integer, intent(in) :: kind
+    character(len=*), intent(in) :: what
+    logical, allocatable :: left(:), here(:)
+    integer :: k, best
+    character(len=:), allocatable :: size_text
+    left = listed%feature%kind == kind
+    write (*, '(a)') ''
+    write (*, '(a)') '#### The largest force ' // what // ' of ' // level_label(all_pose(detail_level)) // ', all pose sweeps'
+    write (*, '(a)') ''
+    write (*, '(a)') 'Relative: a jump over its scale; a kink''s slope change times the sweep''s range over the scale.'
+    write (*, '(a)') ''
+    write (*, '(a)') '| sweep | output | at | size | relative | outputs there |'
+    write (*, '(a)') '|---|---|---|---|---|---|'
+    do k = 1, n_listed
+      if (.not. any(left)) exit
+      best = maxloc(listed%relative, dim=1, mask=left)
+      here = left .and. listed%sweep == listed(best)%sweep .and. &
+             abs(listed%feature%x - listed(best)%feature%x) <= 3 * listed(best)%step
+      left = left .and. .not. here
+      associate (f => listed(best))
+        size_text = trim(sci_text(f%feature%size, 2)) // ' ' // trim(f%unit)
+        if (kind == FEATURE_KINK) size_text = size_text // '/' // trim(f%x_si_unit)
+        write (*, '(a)') '| ' // trim(f%sweep) // ' | ' // trim(f%output) // ' | ' // &
+          trim(real_text(f%feature%x * f%x_print)) // ' ' // trim(f%x_unit) // ' | ' // size_text // ' | ' // &
+          trim(sci_text(100 * f%relative, 1)) // ' % | ' // trim(int_text(count(here))) // ' |'
+      end associate
+    end do
+  end subroutine print_largest
+
   !> ----------------------------------------------------------------------- analysis
   !> Detect the features of every output of a sweep, write them to the CSV, and return the
   !> table row: counts of distinct places and the largest (relative to its output's scale).
-  function analyse(label, s, outs, with_positions) result(row)
+  function analyse(label, s, outs, with_positions, keep) result(row)
     character(len=*), intent(in) :: label
     type(sweep_t), intent(in) :: s
     type(output_t), intent(in) :: outs(:)
     logical, intent(in) :: with_positions
+    !> keep the force features in `listed` (the level listed feature by feature)
+    logical, intent(in), optional :: keep
     character(len=400) :: row
     type(smoothness_feature_t), allocatable :: feat(:)
     type(error_t), allocatable :: error
@@ -621,6 +699,11 @@ contains
           trim(s%name) // '"', trim(outs(j)%name), trim(merge('jump', 'kink', feat(k)%kind == FEATURE_JUMP)), &
           sci_text(feat(k)%x, 8), feat(k)%size, rel, feat(k)%prominence, feat(k)%width
         if (outs(j)%force_like) then
+          if (present(keep)) then
+            if (keep) listed = [listed, listed_feature_t(sweep=s%name, output=outs(j)%name, unit=outs(j)%unit, &
+                                x_si_unit=s%x_si_unit, x_unit=s%x_unit, x_print=s%x_print, step=h, &
+                                feature=feat(k), relative=rel)]
+          end if
           if (feat(k)%kind == FEATURE_JUMP) then
             call add_place(jump_x, feat(k)%x, h)
             if (rel >= relevant_jump) call add_place(big_jump_x, feat(k)%x, h)
