@@ -18,9 +18,9 @@ module rd_cmd_creep
   use rd_creep_factory, only: make_creep_law
   implicit none
   private
-  public :: run_creep_command
+  public :: run_creep_command, creep_usage
 
-  character(len=*), parameter :: usage = 'usage: raildyn creep --law linear|fastsim|polach --a A --b B ' // &
+  character(len=*), parameter :: creep_usage = 'usage: raildyn creep --law linear|fastsim|polach --a A --b B ' // &
     '--normal-force N [--shear-modulus G] [--poisson NU] [--friction MU] [--xi XI] [--eta ETA] ' // &
     '[--spin PHI] [--grid N] [--bound parabolic|elliptic] [--saturation none|shen_hedrick_elkins]'
 
@@ -42,7 +42,7 @@ contains
 
     status = 2
     if (size(args) == 0) then
-      write (error_unit, '(a)') usage
+      write (error_unit, '(a)') creep_usage
       return
     end if
     law_name = ''
@@ -50,7 +50,7 @@ contains
     i = 1
     do while (i <= size(args))
       if (trim(args(i)) == '--help' .or. trim(args(i)) == '-h') then
-        write (output_unit, '(a)') usage
+        write (output_unit, '(a)') creep_usage
         status = 0
         return
       end if

@@ -17,9 +17,9 @@ module rd_cmd_hertz
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_init, hertz_from_force, hertz_from_penetration
   implicit none
   private
-  public :: run_hertz_command
+  public :: run_hertz_command, hertz_usage
 
-  character(len=*), parameter :: usage = 'usage: raildyn hertz (--curvatures KXW KYW KXR KYR | ' // &
+  character(len=*), parameter :: hertz_usage = 'usage: raildyn hertz (--curvatures KXW KYW KXR KYR | ' // &
     '--wheel-radius R [--wheel-transverse-radius RT] [--rail-radius RR] [--rail-longitudinal-radius RL]) ' // &
     '(--normal-force N | --penetration D) [--young E | --shear-modulus G] [--poisson NU] ' // &
     '[--method elliptic|table] [--max-radius RMAX]'
@@ -43,14 +43,14 @@ contains
     have_young = .false.; have_shear = .false.
     poisson = 0.28_wp; young = 0.0_wp; shear = 82.0e9_wp; rmax = 10.0_wp; method = 'elliptic'
     if (size(args) == 0) then
-      write (error_unit, '(a)') usage
+      write (error_unit, '(a)') hertz_usage
       return
     end if
     i = 1
     do while (i <= size(args))
       select case (trim(args(i)))
       case ('--help', '-h')
-        write (output_unit, '(a)') usage
+        write (output_unit, '(a)') hertz_usage
         status = 0
         return
       case ('--curvatures')

@@ -30,9 +30,9 @@ module rd_cmd_profile_scan
   use rd_build_info, only: python_command, shell_quote
   implicit none
   private
-  public :: run_profile_scan_command, write_profile_scan_csv, write_profile_scan_h5
+  public :: run_profile_scan_command, profile_scan_usage, write_profile_scan_csv, write_profile_scan_h5
 
-  character(len=*), parameter :: usage = 'usage: raildyn profile-scan [--wheel FILE|s1002] ' // &
+  character(len=*), parameter :: profile_scan_usage = 'usage: raildyn profile-scan [--wheel FILE|s1002] ' // &
     '[--rail FILE|60e1|54e1|uic60] [--wheel-right FILE|s1002] [--rail-right FILE|60e1|54e1|uic60] ' // &
     '[--inclination 0.025] [--rail-precant 0] [--rail-precant-right P] [--gauge 1.435] ' // &
     '[--back-to-back 1.360] [--radius 0.46] [--ymax 0.010] [--step 0.0005] [--yaw-per-shift 0] ' // &
@@ -63,7 +63,7 @@ contains
     do while (i <= size(args))
       select case (trim(args(i)))
       case ('--help', '-h')
-        write (output_unit, '(a)') usage
+        write (output_unit, '(a)') profile_scan_usage
         status = 0
         return
       case ('--wheel', '--rail', '--wheel-right', '--rail-right', '--csv', '--h5', '--plot')
@@ -211,7 +211,7 @@ contains
     subroutine bad(msg)
       character(len=*), intent(in) :: msg
       write (error_unit, '(a)') 'raildyn profile-scan: ' // msg
-      write (error_unit, '(a)') usage
+      write (error_unit, '(a)') profile_scan_usage
     end subroutine bad
   end subroutine run_profile_scan_command
 

@@ -6,9 +6,9 @@ module rd_runner_commands
   use rd_kinds, only: wp
   use rd_error, only: error_t, RD_ERR_INPUT
   use rd_scene, only: scene_t, raildyn_version
-  use rd_cmd_hertz, only: run_hertz_command
-  use rd_cmd_creep, only: run_creep_command
-  use rd_cmd_profile_scan, only: run_profile_scan_command
+  use rd_cmd_hertz, only: run_hertz_command, hertz_usage
+  use rd_cmd_creep, only: run_creep_command, creep_usage
+  use rd_cmd_profile_scan, only: run_profile_scan_command, profile_scan_usage
   use rd_track_export, only: export_track
   use rd_build_info, only: python_command, shell_quote
   use rd_json, only: json_string
@@ -28,7 +28,17 @@ module rd_runner_commands
   character(len=*), parameter :: usage = &
     'usage: raildyn run DECK [-o OUT.h5] [--progress|--quiet] | check DECK [--json] | ' // &
     'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | ' // &
-    'campaign run|summary|decks CAMPAIGN.toml | hertz ... | creep ... | version | help'
+    'campaign run|summary|decks CAMPAIGN.toml | hertz ... | creep ... | version | help [COMMAND]' // &
+    new_line('a') // '(raildyn COMMAND --help: the options of one command)'
+  ! One usage line per command, printed by `raildyn COMMAND --help` (or -h) and `raildyn help
+  ! COMMAND`, and with that command's usage errors. The campaign's options are its own
+  ! (python -m raildyn.campaign answers --help itself).
+  character(len=*), parameter :: run_usage = 'usage: raildyn run DECK [-o OUT.h5] [--progress|--quiet]'
+  character(len=*), parameter :: check_usage = 'usage: raildyn check DECK [--json]'
+  character(len=*), parameter :: track_usage = &
+    'usage: raildyn track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE]'
+  character(len=*), parameter :: version_usage = 'usage: raildyn version'
+  character(len=*), parameter :: help_usage = 'usage: raildyn help [COMMAND]'
 
 contains
 
@@ -39,6 +49,13 @@ contains
       write (error_unit, '(a)') usage
       status = 1
       return
+    end if
+    if (trim(args(1)) /= 'campaign' .and. len(command_usage(args(1))) > 0) then
+      if (any(args(2:) == '--help') .or. any(args(2:) == '-h')) then
+        write (output_unit, '(a)') command_usage(args(1))
+        status = 0
+        return
+      end if
     end if
     select case (trim(args(1)))
     case ('run')
@@ -56,11 +73,14 @@ contains
     case ('creep')
       call run_creep_command(args(2:), status)
     case ('version', '--version')
+      if (size(args) > 1) then
+        call usage_error("version takes no arguments, got '" // trim(args(2)) // "'", version_usage, status)
+        return
+      end if
       write (output_unit, '(2a)') 'raildyn ', raildyn_version
       status = 0
     case ('help', '--help', '-h')
-      write (output_unit, '(a)') usage
-      status = 0
+      call command_help(args(2:), status)
     case default
       write (error_unit, '(3a)') "raildyn: unknown command '", trim(args(1)), "'"
       write (error_unit, '(a)') usage
@@ -76,17 +96,55 @@ contains
     status = error%code
   end subroutine report
 
-  subroutine usage_error(message, status)
-    character(len=*), intent(in) :: message
+  !> A usage error: the message and the usage line of the command, exit status 1.
+  subroutine usage_error(message, usage_line, status)
+    character(len=*), intent(in) :: message, usage_line
     integer, intent(out) :: status
     write (error_unit, '(2a)') 'raildyn: ', message
-    write (error_unit, '(a)') usage
+    write (error_unit, '(a)') usage_line
     status = 1
   end subroutine usage_error
 
-  !> Split args into one positional deck and options; -o/--output, --step, --csv, --plot take values.
-  subroutine parse_deck_args(args, deck, output, step, csv, plot, progress, status)
+  !> The usage line of a command ('' for a name that is not a command).
+  function command_usage(name) result(text)
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: text
+    select case (trim(name))
+    case ('run'); text = run_usage
+    case ('check'); text = check_usage
+    case ('track'); text = track_usage
+    case ('profile-scan'); text = profile_scan_usage
+    case ('campaign'); text = 'usage: raildyn campaign run|summary|decks CAMPAIGN.toml [options] ' // &
+                              '(raildyn campaign --help: the options)'
+    case ('hertz'); text = hertz_usage
+    case ('creep'); text = creep_usage
+    case ('version', '--version'); text = version_usage
+    case ('help', '--help', '-h'); text = help_usage
+    case default; text = ''
+    end select
+  end function command_usage
+
+  !> `help [COMMAND]`: the overview, or one command's usage line.
+  subroutine command_help(args, status)
     character(len=*), intent(in) :: args(:)
+    integer, intent(out) :: status
+    status = 0
+    if (size(args) == 0) then
+      write (output_unit, '(a)') usage
+    else if (size(args) > 1) then
+      call usage_error('help takes at most one command', help_usage, status)
+    else if (len(command_usage(args(1))) == 0) then
+      call usage_error("unknown command '" // trim(args(1)) // "'", usage, status)
+    else
+      write (output_unit, '(a)') command_usage(args(1))
+    end if
+  end subroutine command_help
+
+  !> Split args into one positional deck and options; -o/--output, --step, --csv, --plot take
+  !> values. Usage errors print usage_line, the command's own.
+  subroutine parse_deck_args(args, usage_line, deck, output, step, csv, plot, progress, status)
+    character(len=*), intent(in) :: args(:)
+    character(len=*), intent(in) :: usage_line
     character(len=:), allocatable, intent(out) :: deck, output, csv, plot
     real(wp), intent(out) :: step
     integer, intent(out) :: progress   !< -1 quiet, 0 auto, 1 forced
@@ -98,7 +156,7 @@ contains
       select case (trim(args(i)))
       case ('-o', '--output', '--step', '--csv', '--plot')
         if (i == size(args)) then
-          call usage_error('option ' // trim(args(i)) // ' needs a value', status)
+          call usage_error('option ' // trim(args(i)) // ' needs a value', usage_line, status)
           return
         end if
         select case (trim(args(i)))
@@ -108,7 +166,7 @@ contains
         case ('--step')
           read (args(i + 1), *, iostat=ios) step
           if (ios /= 0 .or. .not. (step > 0)) then
-            call usage_error('--step expects a positive length in metres, got ' // trim(args(i + 1)), status)
+            call usage_error('--step expects a positive length in metres, got ' // trim(args(i + 1)), usage_line, status)
             return
           end if
         end select
@@ -119,17 +177,17 @@ contains
         progress = -1; i = i + 1
       case default
         if (args(i)(1:1) == '-') then
-          call usage_error("unknown option '" // trim(args(i)) // "'", status)
+          call usage_error("unknown option '" // trim(args(i)) // "'", usage_line, status)
           return
         end if
         if (len(deck) > 0) then
-          call usage_error("more than one deck given ('" // deck // "', '" // trim(args(i)) // "')", status)
+          call usage_error("more than one deck given ('" // deck // "', '" // trim(args(i)) // "')", usage_line, status)
           return
         end if
         deck = trim(args(i)); i = i + 1
       end select
     end do
-    if (len(deck) == 0) call usage_error('no deck given', status)
+    if (len(deck) == 0) call usage_error('no deck given', usage_line, status)
   end subroutine parse_deck_args
 
   !> `check DECK [--json]`: build the scene. --json prints one JSON object on stdout
@@ -147,7 +205,7 @@ contains
     type(scene_t) :: scene
     type(error_t), allocatable :: error
     json = any(args == '--json')
-    call parse_deck_args(pack(args, args /= '--json'), deck, output, step, csv, plot, progress, status)
+    call parse_deck_args(pack(args, args /= '--json'), check_usage, deck, output, step, csv, plot, progress, status)
     if (status /= 0) return
     call scene%load_file(deck, error)
     if (.not. allocated(error)) call scene%build(error)
@@ -192,7 +250,7 @@ contains
     type(scene_t) :: scene
     type(error_t), allocatable :: error
     integer(int64) :: clock0, clock, rate, last_report
-    call parse_deck_args(args, deck, output, step, csv, plot, progress, status)
+    call parse_deck_args(args, run_usage, deck, output, step, csv, plot, progress, status)
     if (status /= 0) return
     call scene%load_file(deck, error)
     if (.not. allocated(error) .and. len(output) > 0) call scene%set_output_file(output)
@@ -257,7 +315,7 @@ contains
     integer :: progress
     type(scene_t) :: scene
     type(error_t), allocatable :: error
-    call parse_deck_args(args, deck, output, step, csv, plot, progress, status)
+    call parse_deck_args(args, track_usage, deck, output, step, csv, plot, progress, status)
     if (status /= 0) return
     call scene%load_file(deck, error)
     if (.not. allocated(error)) call scene%build(error)

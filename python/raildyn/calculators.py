@@ -5,11 +5,12 @@
     >>> creep("fastsim", a=6e-3, b=4e-3, normal_force=50e3, xi=1e-3)
 
 SI units; forces and spin moment on the wheel in contact-frame components, spin creepage in
-1/m (docs/conventions.md). The shared library is found from ``RAILDYN_LIB`` (path to
-libraildyn.so) or ``$RAILDYN_BUILD_DIR/src/c_api/libraildyn.so``.
+1/m (docs/conventions.md). The shared library is the one ``raildyn.find_library`` finds
+(``RAILDYN_LIB``, the build tree, or the installed library).
 """
 import ctypes
-import os
+
+from .model import find_library
 
 __all__ = ["hertz", "creep", "CalculatorError", "HERTZ_WARNINGS"]
 
@@ -32,13 +33,7 @@ def _library():
     global _lib
     if _lib is not None:
         return _lib
-    path = os.environ.get("RAILDYN_LIB")
-    if not path:
-        build = os.environ.get("RAILDYN_BUILD_DIR")
-        if not build:
-            raise OSError("set RAILDYN_LIB to libraildyn.so or RAILDYN_BUILD_DIR to the build directory")
-        path = os.path.join(build, "src", "c_api", "libraildyn.so")
-    lib = ctypes.CDLL(path)
+    lib = ctypes.CDLL(find_library())
     d, i = ctypes.c_double, ctypes.c_int
     pd, pi = ctypes.POINTER(d), ctypes.POINTER(i)
     lib.rd_hertz_patch.argtypes = [d * 4, d, d, i, d, pd, pd, pd, pd, pd, pd, pi]
