@@ -23,6 +23,11 @@ from typing import Iterable
 
 import numpy as np
 
+try:                            # written by cmake --install only
+    from . import _installed_layout
+except ImportError:             # a source tree
+    _installed_layout = None
+
 __all__ = ["Model", "RaildynError", "find_library", "load_library", "STATUS_NAMES"]
 
 #: Status codes of raildyn.h (mirror src/fortran/common/rd_error.f90).
@@ -56,8 +61,8 @@ class RaildynError(RuntimeError):
 
 def find_library() -> str:
     """Path of libraildyn.so: env ``RAILDYN_LIB``, else
-    ``$RAILDYN_BUILD_DIR/src/c_api/libraildyn.so``, else the repository's
-    ``build/src/c_api/libraildyn.so``."""
+    ``$RAILDYN_BUILD_DIR/src/c_api/libraildyn.so``, else the library installed with this
+    package (``cmake --install``), else the repository's ``build/src/c_api/libraildyn.so``."""
     candidates: list[Path] = []
     if os.environ.get("RAILDYN_LIB"):
         lib = Path(os.environ["RAILDYN_LIB"])
@@ -66,6 +71,8 @@ def find_library() -> str:
         return str(lib)
     if os.environ.get("RAILDYN_BUILD_DIR"):
         candidates.append(Path(os.environ["RAILDYN_BUILD_DIR"]) / "src/c_api/libraildyn.so")
+    if _installed_layout is not None:
+        candidates.append(_installed_layout.LIBRARY)
     candidates.append(Path(__file__).resolve().parents[2] / "build/src/c_api/libraildyn.so")
     for path in candidates:
         if path.is_file():

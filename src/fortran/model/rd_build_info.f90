@@ -1,9 +1,20 @@
 !> What the build knows about its surroundings: the Python interpreter and package the
 !> runner hands plots and campaigns to (configured by CMake, rd_build_config.inc.in).
 module rd_build_info
+  use, intrinsic :: iso_c_binding, only: c_char, c_int
   implicit none
   private
   public :: python_command, shell_quote
+
+  interface
+    !> rd_executable_dir.c: the running executable's directory, 0 when unknown.
+    function rd_executable_dir(buffer, capacity) result(length) bind(C, name='rd_executable_dir')
+      import :: c_char, c_int
+      character(kind=c_char), intent(out) :: buffer(*)
+      integer(c_int), value :: capacity
+      integer(c_int) :: length
+    end function rd_executable_dir
+  end interface
 
 contains
 
@@ -14,9 +25,24 @@ contains
   function python_command() result(cmd)
     character(len=:), allocatable :: cmd
     include 'rd_build_config.inc'
-    cmd = 'PYTHONPATH=' // shell_quote(python_package_dir) // '${PYTHONPATH:+:$PYTHONPATH} exec ' // &
+    cmd = 'PYTHONPATH=' // shell_quote(python_package_path()) // '${PYTHONPATH:+:$PYTHONPATH} exec ' // &
           shell_quote(python_executable)
   end function python_command
+
+  !> The folder holding the raildyn package: the installed one beside an installed runner
+  !> (<bin>/<python_package_dir_from_bin>, cmake --install), else the build's source tree.
+  function python_package_path() result(dir)
+    character(len=:), allocatable :: dir
+    include 'rd_build_config.inc'
+    character(kind=c_char, len=4096) :: exe_dir
+    integer :: length
+    logical :: installed
+    dir = python_package_dir
+    length = rd_executable_dir(exe_dir, len(exe_dir))
+    if (length == 0) return
+    inquire (file=exe_dir(1:length) // '/' // python_package_dir_from_bin // '/raildyn/__init__.py', exist=installed)
+    if (installed) dir = exe_dir(1:length) // '/' // python_package_dir_from_bin
+  end function python_package_path
 
   !> Single-quote a word for /bin/sh.
   pure function shell_quote(word) result(quoted)
