@@ -99,7 +99,10 @@ program bench_contact_smoothness
     character(len=12) :: x_si_unit = ''   !< SI unit of x (for kink sizes)
     real(wp), allocatable :: x(:)
     real(wp), allocatable :: values(:, :) !< (sample, output)
-    integer :: n_valid = huge(1)          !< samples computed (a wheel-load path can end early)
+    !> samples computed: a sweep ends early where the pipeline returns an error (a new
+    !> fidelity option's limit, a derailment) or a wheel-load path finds no pose; why:
+    integer :: n_valid = huge(1)
+    character(len=:), allocatable :: end_reason
   end type sweep_t
 
   !> Per output: name, unit, scale (for relative sizes and the floor), is it a force-like
@@ -315,7 +318,8 @@ contains
     hi = 1.0e-3_wp
     do it = 1, 60
       delta = 0.5_wp * (lo + hi)
-      call evaluate_pose(ws, 0.0_wp, z - delta, phi, 0.0_wp, out)
+      call evaluate_pose(ws, 0.0_wp, z - delta, phi, 0.0_wp, out, error)
+      if (allocated(error)) error stop 'bench_contact_smoothness: centred wheelset: ' // error%message
       if (out(3) > wheel_load) then
         hi = delta
       else
@@ -334,22 +338,22 @@ contains
   end subroutine static_approach
 
   !> Outputs at pose (y, z, roll, yaw), wheelset rolling forward at `speed`.
-  subroutine evaluate_pose(ws, y, z, phi, psi, out)
+  subroutine evaluate_pose(ws, y, z, phi, psi, out, error)
     type(wheelset_contact_t), intent(inout) :: ws
     real(wp), intent(in) :: y, z, phi, psi
     real(wp), intent(out) :: out(n_pose_out)
+    type(error_t), allocatable, intent(out) :: error
     type(track_point_t) :: tp
     type(body_kinematics_t) :: kin
-    type(error_t), allocatable :: error
     real(wp) :: f(3), m(3)
     integer :: side
     tp%a = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
     tp%dr = [1.0_wp, 0.0_wp, 0.0_wp]
     call compute_body_kinematics(kin, tp, speed, 0.0_wp, [0.0_wp, y, z, psi, phi, 0.0_wp], &
                                  [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, speed / reference_spec%nominal_radius], .true.)
+    out = 0
     call ws%evaluate(1, 0.0_wp, kin, f, m, error)
-    if (allocated(error)) error stop 'bench_contact_smoothness: y = ' // trim(sci_text(y, 6)) // ' m, yaw ' // &
-      trim(sci_text(psi, 4)) // ': ' // error%message
+    if (allocated(error)) return
     do side = 1, 2
       out((side - 1) * n_wheel_out + 1:side * n_wheel_out) = wheel_outputs(ws%results(1)%wheel(side))
     end do
@@ -406,6 +410,7 @@ contains
     type(sweep_t) :: sweeps(nsweep)
     type(output_t) :: outs(n_pose_out)
     real(wp) :: z0(2), phi0(2), t0, t1, cost(size(all_pose))
+    character(len=400), allocatable :: ended(:)
     character(len=400), allocatable :: rows(:, :)
     integer :: lv, j, i, sw
     outs = pose_outputs()
@@ -431,7 +436,7 @@ contains
     sweeps(6)%x = sweeps(5)%x
     sweeps(7)%x = [(delta0 / half_track * (-0.5_wp + real(i - 1, wp) / (npoints - 1)), i = 1, npoints)]
     sweeps(8)%x = sweeps(7)%x
-    allocate (rows(nsweep, size(all_pose)))
+    allocate (rows(nsweep, size(all_pose)), ended(0))
     do lv = 1, size(all_pose)
       call cpu_time(t0)
       spec = default_spec()
@@ -444,15 +449,23 @@ contains
       call rigid_contact(ws%models(1)%geo, y_flange, yaw_leading, z0(2), phi0(2), error)
       if (allocated(error)) error stop error%message
       sweeps%n_valid = npoints
+      do sw = 1, nsweep
+        if (allocated(sweeps(sw)%end_reason)) deallocate (sweeps(sw)%end_reason)
+      end do
       do i = 1, npoints
         call loaded_sample(ws, sweeps(1), i, yaw_leading)
         call loaded_sample(ws, sweeps(2), i, 0.0_wp)
         call lateral_sample(ws, sweeps(3), i, yaw_leading)
         call lateral_sample(ws, sweeps(4), i, 0.0_wp)
-        call evaluate_pose(ws, 0.0_wp, z0(1) - sweeps(5)%x(i), phi0(1), 0.0_wp, sweeps(5)%values(i, :))
-        call evaluate_pose(ws, y_flange, z0(2) - sweeps(6)%x(i), phi0(2), yaw_leading, sweeps(6)%values(i, :))
-        call evaluate_pose(ws, 0.0_wp, z0(1) - delta0, phi0(1) + sweeps(7)%x(i), 0.0_wp, sweeps(7)%values(i, :))
-        call evaluate_pose(ws, y_flange, z0(2) - delta0, phi0(2) + sweeps(8)%x(i), yaw_leading, sweeps(8)%values(i, :))
+        call pose_sample(ws, sweeps(5), i, 0.0_wp, z0(1) - sweeps(5)%x(i), phi0(1), 0.0_wp)
+        call pose_sample(ws, sweeps(6), i, y_flange, z0(2) - sweeps(6)%x(i), phi0(2), yaw_leading)
+        call pose_sample(ws, sweeps(7), i, 0.0_wp, z0(1) - delta0, phi0(1) + sweeps(7)%x(i), 0.0_wp)
+        call pose_sample(ws, sweeps(8), i, y_flange, z0(2) - delta0, phi0(2) + sweeps(8)%x(i), yaw_leading)
+      end do
+      do sw = 1, nsweep
+        if (allocated(sweeps(sw)%end_reason)) ended = [character(len=400) :: ended, level_label(all_pose(lv)) // &
+          ', ' // trim(sweeps(sw)%name) // ': after ' // trim(real_text(sweeps(sw)%x(max(sweeps(sw)%n_valid, 1)) * &
+          sweeps(sw)%x_print)) // ' ' // trim(sweeps(sw)%x_unit) // ', ' // sweeps(sw)%end_reason]
       end do
       call cpu_time(t1)
       cost(lv) = t1 - t0
@@ -473,6 +486,14 @@ contains
       end do
     end do
     write (*, '(a)') ''
+    if (size(ended) > 0) then
+      write (*, '(a)') ''
+      write (*, '(a)') 'Sweeps that ended early (the tables cover the samples before):'
+      write (*, '(a)') ''
+      do i = 1, size(ended)
+        write (*, '(a)') '- ' // trim(ended(i))
+      end do
+    end if
     call print_largest(FEATURE_JUMP, 'jumps')
     call print_largest(FEATURE_KINK, 'kinks')
     write (*, '(a)') ''
@@ -484,9 +505,9 @@ contains
   !> Sample i of a lateral sweep at the wheel load: (z, roll) with Q = Q0 on both wheels,
   !> Newton from the previous sample's (z, roll) (the first: rigid contact lowered by
   !> delta0) with a forward-difference Jacobian and steps of at most 20 um at a wheel, to
-  !> |Q - Q0| < 1e-9 Q0. When 40 iterations do not get there the sweep ends at sample i - 1
-  !> (n_valid): on a flange steeper than Nadal's limit for the creep force of the yaw, no
-  !> normal force gives Q0 (Q = N (cos g - mu sin g) <= 0).
+  !> |Q - Q0| < 1e-9 Q0. When 40 iterations do not get there (on a flange steeper than
+  !> Nadal's limit for the creep force of the yaw no normal force gives Q0: Q = N (cos g -
+  !> mu sin g) <= 0), or the pipeline returns an error, the sweep ends (end_sweep).
   subroutine loaded_sample(ws, s, i, psi)
     type(wheelset_contact_t), intent(inout) :: ws
     type(sweep_t), intent(inout) :: s
@@ -496,26 +517,31 @@ contains
     type(error_t), allocatable :: error
     real(wp) :: z, phi, r(2), rz(2), rp(2), jac(2, 2), det, step(2), out(n_pose_out)
     integer :: it
+    if (i > s%n_valid) return
     if (i == 1) then
       call rigid_contact(ws%models(1)%geo, s%x(i), psi, z, phi, error)
-      if (allocated(error)) error stop 'bench_contact_smoothness: rigid contact at y = ' // trim(sci_text(s%x(i), 6)) // &
-        ': ' // error%message
+      if (allocated(error)) then
+        call end_sweep(s, i, error%message)
+        return
+      end if
       z = z - delta0
     else
       z = s%values(i - 1, n_pose_out - 1)
       phi = s%values(i - 1, n_pose_out)
     end if
-    if (i > s%n_valid) return
     do it = 1, 40
-      call evaluate_pose(ws, s%x(i), z, phi, psi, out)
+      call evaluate_pose(ws, s%x(i), z, phi, psi, out, error)
+      if (allocated(error)) exit
       r = [out(3), out(n_wheel_out + 3)] - wheel_load
       if (maxval(abs(r)) < tol * wheel_load) then
         s%values(i, :) = out
         return
       end if
-      call evaluate_pose(ws, s%x(i), z + dz, phi, psi, out)
+      call evaluate_pose(ws, s%x(i), z + dz, phi, psi, out, error)
+      if (allocated(error)) exit
       rz = [out(3), out(n_wheel_out + 3)] - wheel_load
-      call evaluate_pose(ws, s%x(i), z, phi + dphi, psi, out)
+      call evaluate_pose(ws, s%x(i), z, phi + dphi, psi, out, error)
+      if (allocated(error)) exit
       rp = [out(3), out(n_wheel_out + 3)] - wheel_load
       jac(:, 1) = (rz - r) / dz
       jac(:, 2) = (rp - r) / dphi
@@ -527,7 +553,11 @@ contains
       z = z - step(1)
       phi = phi - step(2)
     end do
-    s%n_valid = i - 1
+    if (allocated(error)) then
+      call end_sweep(s, i, error%message)
+    else
+      call end_sweep(s, i, 'no (z, roll) with Q0 on both wheels found in 40 Newton iterations')
+    end if
   end subroutine loaded_sample
 
   !> Sample i of a lateral sweep: rigid contact at (y, yaw) lowered by delta0.
@@ -538,11 +568,35 @@ contains
     real(wp), intent(in) :: psi
     type(error_t), allocatable :: error
     real(wp) :: z, phi
+    if (i > s%n_valid) return
     call rigid_contact(ws%models(1)%geo, s%x(i), psi, z, phi, error)
-    if (allocated(error)) error stop 'bench_contact_smoothness: rigid contact at y = ' // trim(sci_text(s%x(i), 6)) // &
-      ': ' // error%message
-    call evaluate_pose(ws, s%x(i), z - delta0, phi, psi, s%values(i, :))
+    if (allocated(error)) then
+      call end_sweep(s, i, error%message)
+      return
+    end if
+    call pose_sample(ws, s, i, s%x(i), z - delta0, phi, psi)
   end subroutine lateral_sample
+
+  !> Sample i of a sweep at pose (y, z, roll, yaw); an error of the pipeline ends the sweep.
+  subroutine pose_sample(ws, s, i, y, z, phi, psi)
+    type(wheelset_contact_t), intent(inout) :: ws
+    type(sweep_t), intent(inout) :: s
+    integer, intent(in) :: i
+    real(wp), intent(in) :: y, z, phi, psi
+    type(error_t), allocatable :: error
+    if (i > s%n_valid) return
+    call evaluate_pose(ws, y, z, phi, psi, s%values(i, :), error)
+    if (allocated(error)) call end_sweep(s, i, error%message)
+  end subroutine pose_sample
+
+  !> The sweep ends before sample i, because of `reason`.
+  pure subroutine end_sweep(s, i, reason)
+    type(sweep_t), intent(inout) :: s
+    integer, intent(in) :: i
+    character(len=*), intent(in) :: reason
+    s%n_valid = min(s%n_valid, i - 1)
+    if (.not. allocated(s%end_reason)) s%end_reason = reason
+  end subroutine end_sweep
 
   subroutine creep_sweeps()
     class(creep_law_t), allocatable :: law
