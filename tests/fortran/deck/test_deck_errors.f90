@@ -34,15 +34,16 @@ program test_deck_errors
     "case.nml:2: &solver 'max_num_steps'", 'got a real number 2.5', 'expected an integer >= 1')
   call case('wrong type: logical for a real', '&simulation t_end = .true. /', &
     "case.nml:1: &simulation 't_end'", 'got a logical .true.', 'expected a real number')
-  call case('wrong type: word for a logical', sim(1:len(sim) - 2) // &
-    " stop_on_derailment = 'yes' /", "case.nml:1: &simulation 'stop_on_derailment'", &
-    "got a string 'yes'", 'expected .true. or .false.')
+  call case('wrong type: word for a logical', sim // &
+    "&body name = 'b', mass = 1, ixx = 1, iyy = 1, izz = 1 /" // nl // &
+    "&wheelset name = 'w', body = 'b', contact = 'knife_edge', spin_creep = 'yes' /", &
+    "case.nml:3: &wheelset 'spin_creep'", "got a string 'yes'", 'expected .true. or .false.')
   call case('unquoted string', sim // '&solver method = bdf /', &
     "case.nml:2: &solver 'method'", "'bdf' without quotes", "expected one of 'bdf'")
   call case('malformed number 1.2.3', '&simulation t_end = 1.2.3 /', &
     "case.nml:1: &simulation 't_end'", "malformed number '1.2.3'", 'expected a real number > 0')
   call case('malformed number 12OO.0 (letter O)', sim // '&track gauge = 12OO.0 /', &
-    "case.nml:2: &track 'gauge'", "malformed number '12OO.0'", 'expected a real number in [0.5, 2]')
+    "case.nml:2: &track 'gauge'", "malformed number '12OO.0'", 'expected a real number in (0.5, 2]')
   call case('number overflows', '&simulation t_end = 1e999 /', &
     "case.nml:1: &simulation 't_end'", 'overflows', 'expected a real number')
   call case('nan is not a number', '&simulation t_end = nan /', &

@@ -44,8 +44,6 @@ program test_deck_files
   call check(x == 4.4_wp, 'speed')
   call deck%get('solver', 1, 'max_num_steps', n, error); call expect_ok('max_num_steps')
   call check(n == 100000, 'max_num_steps default')
-  call deck%get('simulation', 1, 'stop_on_derailment', b, error)
-  call check(b, 'stop_on_derailment default .true.')
   ! a curve keeps the cant its transition reached; a straight defaults to 0
   call deck%get('segment', 3, 'cant', x, error); call expect_ok('curve cant')
   call check(x == 0.100_wp, 'curve cant = previous clothoid end cant')

@@ -18,12 +18,11 @@ program test_deck_vs_namelist
   ! namelist variables (names as in the deck schema)
   character(len=64) :: title, name, frame
   real(wp) :: t_end, gravity, start_sigma, speed_times(8), speed_values(8)
-  logical :: stop_on_derailment
   real(wp) :: mass, ixx, iyy, izz, ixy, position(3), orientation(3), velocity(3), frame_offset
   character(len=8) :: frozen(6)
   integer :: max_num_steps
   real(wp) :: rtol
-  namelist /simulation/ title, t_end, gravity, start_sigma, stop_on_derailment, speed_times, speed_values
+  namelist /simulation/ title, t_end, gravity, start_sigma, speed_times, speed_values
   namelist /body/ name, mass, ixx, iyy, izz, ixy, position, orientation, velocity, frame_offset, &
                   frozen, frame
   namelist /solver/ max_num_steps, rtol
@@ -38,13 +37,14 @@ program test_deck_vs_namelist
   nfail = 0
   text = &
     '&simulation title = ''it''''s "q"'', t_end = 1.5d1, gravity = 981e-2, start_sigma = .5,' // nl // &
-    '   stop_on_derailment = F, speed_times = 0, 1.0, 2e0, 3.d0,' // nl // &
+    '   speed_times = 0, 1.0, 2e0, 3.d0,' // nl // &
     '   speed_values = 2*1.0, 2*2.5 /' // nl // &
     '&body name = ''b1'', mass = 1.0E+3, ixx = 1, iyy = 2, izz = 3, ixy = -0.5,' // nl // &
     '   position = 3*0.25, position(2) = -1.5, velocity = 1 2 3, frozen = ''yaw'', ''roll'' /' // nl // &
     '&body name = "b2", mass = 2e3, ixx = 4, iyy = 5, izz = 6, orientation(3) = 0.125,' // nl // &
     '   frame_offset = -1.28, frame = ''b1'' /' // nl // &
-    '&solver max_num_steps = 250, rtol = 1.0D-7 /' // nl
+    '&solver max_num_steps = 250, rtol = 1.0D-7 /' // nl // &
+    '&wheelset name = ''w'', body = ''b1'', contact = ''knife_edge'', spin_creep = F /' // nl
   call read_deck_string(deck, text, '.', 'oracle.nml', error)
   if (allocated(error)) then
     print '(a)', 'FAIL: rd_deck: ' // error%message
@@ -54,7 +54,7 @@ program test_deck_vs_namelist
   open (newunit=u, status='scratch', action='readwrite', form='formatted')
   write (u, '(a)') text
   ! --- &simulation (defaults of the specification first) ---
-  title = ''; t_end = -1; gravity = 9.80665_wp; start_sigma = 0; stop_on_derailment = .true.
+  title = ''; t_end = -1; gravity = 9.80665_wp; start_sigma = 0
   speed_times = -huge(1.0_wp); speed_values = -huge(1.0_wp)
   rewind (u)
   read (u, nml=simulation, iostat=ios); call io_ok('simulation')
@@ -62,8 +62,9 @@ program test_deck_vs_namelist
   call deck%get('simulation', 1, 't_end', x, error); call check(x == t_end, 't_end')
   call deck%get('simulation', 1, 'gravity', x, error); call check(x == gravity, 'gravity')
   call deck%get('simulation', 1, 'start_sigma', x, error); call check(x == start_sigma, '.5')
-  call deck%get('simulation', 1, 'stop_on_derailment', b, error)
-  call check(b .eqv. stop_on_derailment, 'logical F')
+  ! --- &wheelset: a logical written as F ---
+  call deck%get('wheelset', 1, 'spin_creep', b, error)
+  call check(b .eqv. wheelset_spin_creep(u) .and. .not. b, 'logical F')
   n = count(speed_times > -huge(1.0_wp))
   call deck%get('simulation', 1, 'speed_times', v, error)
   call check(size(v) == n, 'speed_times length')
@@ -134,6 +135,19 @@ contains
       print '(a)', 'FAIL: ' // what
     end if
   end subroutine check
+
+  !> spin_creep of the &wheelset group by the intrinsic namelist read (its own scope:
+  !> the group's 'body' parameter would clash with the &body namelist above)
+  logical function wheelset_spin_creep(unit)
+    integer, intent(in) :: unit
+    character(len=64) :: name, body, contact
+    logical :: spin_creep
+    namelist /wheelset/ name, body, contact, spin_creep
+    spin_creep = .true.
+    rewind (unit)
+    read (unit, nml=wheelset, iostat=ios); call io_ok('wheelset')
+    wheelset_spin_creep = spin_creep
+  end function wheelset_spin_creep
 
   subroutine io_ok(what)
     character(len=*), intent(in) :: what

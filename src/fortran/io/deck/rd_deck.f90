@@ -55,11 +55,10 @@ contains
     type(deck_t), intent(out) :: deck
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(out) :: error
-    character(len=:), allocatable :: text
-    logical :: ok
-    call read_text_file(path, text, ok)
-    if (.not. ok) then
-      call make_error(error, RD_ERR_INPUT, path // ": cannot open the deck; expected an " // &
+    character(len=:), allocatable :: text, problem
+    call read_text_file(path, text, problem)
+    if (len(problem) > 0) then
+      call make_error(error, RD_ERR_INPUT, path // ': the deck ' // problem // '; expected an ' // &
         'existing readable file')
       return
     end if

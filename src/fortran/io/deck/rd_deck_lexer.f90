@@ -38,7 +38,7 @@ contains
     character(len=*), intent(in) :: text
     type(token_t), allocatable, intent(out) :: tokens(:)
     integer, intent(out) :: ntok
-    integer :: i, n, line, j
+    integer :: i, n, line, j, nbuf
     character :: c, q
     character(len=:), allocatable :: buf
     logical :: glued, closed
@@ -81,25 +81,36 @@ contains
       case (')')
         call push(TK_RPAREN, ')'); i = i + 1
       case ('''', '"')
-        q = c; buf = ''; closed = .false.
+        ! decoded into a buffer of the line's length (not grown per character: a
+        ! megabyte-long value must cost linear time)
+        q = c; closed = .false.
+        j = index(text(i + 1:), achar(10))
+        if (j == 0) then
+          j = n + 1
+        else
+          j = i + j
+        end if
+        allocate (character(len=j - i) :: buf)
+        nbuf = 0
         j = i + 1
         do while (j <= n)
           if (text(j:j) == achar(10)) exit
           if (text(j:j) == q) then
             if (j < n) then
               if (text(j + 1:j + 1) == q) then
-                buf = buf // q; j = j + 2; cycle
+                nbuf = nbuf + 1; buf(nbuf:nbuf) = q; j = j + 2; cycle
               end if
             end if
             closed = .true.; exit
           end if
-          buf = buf // text(j:j); j = j + 1
+          nbuf = nbuf + 1; buf(nbuf:nbuf) = text(j:j); j = j + 1
         end do
         if (closed) then
-          call push(TK_STRING, buf); i = j + 1
+          call push(TK_STRING, buf(1:nbuf)); i = j + 1
         else
-          call push(TK_UNTERMINATED, q // buf); i = j
+          call push(TK_UNTERMINATED, q // buf(1:nbuf)); i = j
         end if
+        deallocate (buf)
       case default
         j = i
         do while (j <= n)

@@ -14,7 +14,8 @@ module rd_deck_parser
   use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_IO
   use rd_deck_text, only: deck_string_t, append_string, to_lower, int_to_str, is_integer_text, &
                           is_real_text, text_to_real, text_to_integer, text_to_logical, &
-                          path_join, path_dir, is_absolute_path, file_exists
+                          path_join, path_dir, is_absolute_path
+  use rd_file_kind, only: file_kind, regular_file_problem, FILE_REGULAR, FILE_MISSING
   use rd_deck_schema, only: deck_schema_t, group_schema_t, param_schema_t, find_group, &
                             find_param, suggest_name, range_text, PT_REAL, PT_INTEGER, &
                             PT_STRING, PT_LOGICAL, PT_REAL_ARRAY, PT_STRING_LIST
@@ -45,26 +46,31 @@ module rd_deck_parser
 
 contains
 
-  !> Read a whole text file into one string (lines joined by newlines).
-  subroutine read_text_file(path, text, ok)
+  !> Read a whole text file into one string (lines joined by newlines). `problem` is ''
+  !> on success, else what went wrong ("is a directory", "cannot be read").
+  subroutine read_text_file(path, text, problem)
     character(len=*), intent(in) :: path
     character(len=:), allocatable, intent(out) :: text
-    logical, intent(out) :: ok
+    character(len=:), allocatable, intent(out) :: problem
     integer :: u, ios, fsize
-    ok = .false.
+    text = ''
+    ! a directory, FIFO or device is refused before opening: it would read as empty,
+    ! endless or block
+    problem = regular_file_problem(path)
+    if (len(problem) > 0) return
+    problem = 'cannot be read'
     open (newunit=u, file=path, access='stream', form='unformatted', status='old', &
           action='read', iostat=ios)
-    if (ios /= 0) then
-      text = ''; return
-    end if
+    if (ios /= 0) return
     inquire (unit=u, size=fsize)
     if (fsize < 0) then
-      close (u); text = ''; return
+      close (u); return
     end if
+    deallocate (text)
     allocate (character(len=fsize) :: text)
     if (fsize > 0) read (u, iostat=ios) text
     close (u)
-    ok = ios == 0
+    if (ios == 0) problem = ''
   end subroutine read_text_file
 
   !> Collapse "./" and "dir/../" so include cycles are detected whatever the spelling.
@@ -179,9 +185,11 @@ contains
     integer :: ntok, k, gi, include_group
     type(deck_string_t), allocatable :: inserts(:)
     integer, allocatable :: insert_after(:)
-    character(len=:), allocatable :: where
+    character(len=:), allocatable :: where, cleaned
 
-    call tokenize(text, tok, ntok)
+    call clean_source_text(text, ctx%sources(isrc)%name, cleaned, error)
+    if (allocated(error)) return
+    call tokenize(cleaned, tok, ntok)
     include_group = find_group(ctx%schema, 'include')
     allocate (inserts(0), insert_after(0))
     k = 1
@@ -204,7 +212,7 @@ contains
       case default
         where = ctx%sources(isrc)%name // ':' // int_to_str(tok(k)%line) // ': '
         if (tok(k)%kind == TK_END) then
-          call make_error(error, RD_ERR_INPUT, where // "'" // tok(k)%text // &
+          call make_error(error, RD_ERR_INPUT, where // "'" // shown(tok(k)%text) // &
             "' outside a group; expected it only to close a &group")
         else
           call make_error(error, RD_ERR_INPUT, where // "text outside a group: '" // &
@@ -214,8 +222,58 @@ contains
         return
       end select
     end do
-    expanded = splice(text, inserts, insert_after)
+    expanded = splice(cleaned, inserts, insert_after)
   end subroutine parse_source
+
+  !> The deck text as the lexer reads it: a UTF-8 byte order mark at the start is
+  !> dropped, CR LF and lone CR line ends become LF (files from Windows and classic Mac
+  !> OS), and any other control byte (NUL, ESC, form feed, DEL, ...) is an error naming
+  !> its line and column: the namelist syntax has no use for them and a silently kept
+  !> one would end up in names and results.
+  subroutine clean_source_text(text, name, cleaned, error)
+    character(len=*), intent(in) :: text, name
+    character(len=:), allocatable, intent(out) :: cleaned
+    type(error_t), allocatable, intent(out) :: error
+    character(len=*), parameter :: bom = achar(239) // achar(187) // achar(191)
+    integer :: i, n, line, column, code, first
+    allocate (character(len=len(text)) :: cleaned)
+    first = 1
+    if (len(text) >= 3) then
+      if (text(1:3) == bom) first = 4
+    end if
+    n = 0; line = 1; column = 0
+    i = first
+    do while (i <= len(text))
+      code = iachar(text(i:i))
+      column = column + 1
+      if (code == 13) then
+        n = n + 1; cleaned(n:n) = achar(10)
+        line = line + 1; column = 0
+        if (i < len(text)) then
+          if (text(i + 1:i + 1) == achar(10)) i = i + 1
+        end if
+      else if (code == 10) then
+        n = n + 1; cleaned(n:n) = achar(10)
+        line = line + 1; column = 0
+      else if ((code < 32 .and. code /= 9) .or. code == 127) then
+        call make_error(error, RD_ERR_INPUT, name // ':' // int_to_str(line) // ': control byte 0x' // &
+          hex_byte(code) // ' at column ' // int_to_str(column) // '; expected text (printable ' // &
+          'characters, tabs and line ends only)')
+        return
+      else
+        n = n + 1; cleaned(n:n) = text(i:i)
+      end if
+      i = i + 1
+    end do
+    cleaned = cleaned(1:n)
+  end subroutine clean_source_text
+
+  pure function hex_byte(code) result(h)
+    integer, intent(in) :: code
+    character(len=2) :: h
+    character(len=*), parameter :: digits = '0123456789ABCDEF'
+    h = digits(code / 16 + 1:code / 16 + 1) // digits(mod(code, 16) + 1:mod(code, 16) + 1)
+  end function hex_byte
 
   function token_display(t) result(s)
     type(token_t), intent(in) :: t
@@ -226,10 +284,23 @@ contains
     case (TK_EOF); s = 'end of file'
     case default; s = t%text
     end select
-    if (len(s) > 40) s = s(1:37) // '...'
+    s = shown(s)
   end function token_display
 
-  !> Insert each included text after its line, between marker comments.
+  !> A value as quoted in messages: cut to 40 characters (a megabyte-long
+  !> value must not become a megabyte-long message).
+  pure function shown(t) result(s)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: s
+    if (len(t) > 40) then
+      s = t(1:37) // '...'
+    else
+      s = t
+    end if
+  end function shown
+
+  !> Insert each included text after its line, between marker comments. Pieces are
+  !> joined once per include (not once per line: linear in the deck's size).
   function splice(text, inserts, after) result(out)
     character(len=*), intent(in) :: text
     type(deck_string_t), intent(in) :: inserts(:)
@@ -240,20 +311,24 @@ contains
     if (size(inserts) == 0) then
       out = text; return
     end if
-    out = ''; line = 1; start = 1
-    do i = 1, len(text) + 1
-      if (i > len(text)) then
-        if (start <= len(text)) out = out // text(start:) // nl
-      else if (text(i:i) == nl) then
-        out = out // text(start:i)
-        start = i + 1
-      else
-        cycle
-      end if
-      do k = 1, size(inserts)
-        if (after(k) == line) out = out // inserts(k)%s
+    out = ''; line = 1; start = 1; k = 1
+    ! after(:) is in reading order, i.e. non-decreasing lines
+    do i = 1, len(text)
+      if (k > size(after)) exit
+      if (text(i:i) /= nl) cycle
+      do while (k <= size(after))
+        if (after(k) /= line) exit
+        out = out // text(start:i) // inserts(k)%s
+        start = i + 1; k = k + 1
       end do
       line = line + 1
+    end do
+    if (start <= len(text)) then
+      out = out // text(start:)
+      if (text(len(text):len(text)) /= nl) out = out // nl
+    end if
+    do while (k <= size(after))   ! includes on a last line without a newline
+      out = out // inserts(k)%s; k = k + 1
     end do
   end function splice
 
@@ -262,10 +337,9 @@ contains
     type(parse_context_t), intent(inout) :: ctx
     character(len=:), allocatable, intent(out) :: expanded
     type(error_t), allocatable, intent(out) :: error
-    character(len=:), allocatable :: path, norm, text, where, sub
+    character(len=:), allocatable :: path, norm, text, where, sub, problem
     type(source_file_t), allocatable :: grown(:)
     integer :: i, jsrc
-    logical :: ok
     character(len=1), parameter :: nl = achar(10)
 
     associate (inc => ctx%entities(ctx%nent))
@@ -292,10 +366,10 @@ contains
         int_to_str(max_include_depth) // '; expected fewer levels')
       return
     end if
-    call read_text_file(path, text, ok)
-    if (.not. ok) then
-      call make_error(error, RD_ERR_IO, where // "cannot read '" // path // &
-        "'; expected a readable deck file")
+    call read_text_file(path, text, problem)
+    if (len(problem) > 0) then
+      call make_error(error, RD_ERR_IO, where // "'" // path // "' " // problem // &
+        '; expected a readable deck file')
       return
     end if
     ctx%nsrc = ctx%nsrc + 1
@@ -456,10 +530,12 @@ contains
     type(item_t), allocatable, intent(out) :: items(:)
     character(len=*), intent(in) :: where
     type(error_t), allocatable, intent(out) :: error
-    integer :: nrep, star, j
+    integer :: nrep, star, j, n
     logical :: ok
     character(len=:), allocatable :: value
-    allocate (items(0))
+    type(item_t), allocatable :: all_items(:)
+    allocate (all_items(16))
+    n = 0
     do
       select case (tok(k)%kind)
       case (TK_COMMA)
@@ -470,13 +546,13 @@ contains
           tok(k)%text(1:1) // ' on the same line')
         return
       case (TK_STRING)
-        call push_item(items, TK_STRING, tok(k)%text)
+        call push_item(all_items, n, TK_STRING, tok(k)%text)
         k = k + 1
       case (TK_WORD)
         if (tok(k + 1)%kind == TK_EQUALS .or. tok(k + 1)%kind == TK_LPAREN) exit
         star = index(tok(k)%text, '*')
         if (star == 0) then
-          call push_item(items, TK_WORD, tok(k)%text)
+          call push_item(all_items, n, TK_WORD, tok(k)%text)
           k = k + 1
           cycle
         end if
@@ -486,22 +562,22 @@ contains
         if (ok) ok = nrep >= 1 .and. nrep <= 100000
         if (.not. ok) then
           call make_error(error, RD_ERR_INPUT, where // "malformed repeat count '" // &
-            tok(k)%text // "'; expected n*value with a positive integer n, e.g. 3*0.0")
+            shown(tok(k)%text) // "'; expected n*value with a positive integer n, e.g. 3*0.0")
           return
         end if
         if (star < len(tok(k)%text)) then
           value = tok(k)%text(star + 1:)
           do j = 1, nrep
-            call push_item(items, TK_WORD, value)
+            call push_item(all_items, n, TK_WORD, value)
           end do
           k = k + 1
         else if (tok(k + 1)%kind == TK_STRING .and. tok(k + 1)%glued) then
           do j = 1, nrep
-            call push_item(items, TK_STRING, tok(k + 1)%text)
+            call push_item(all_items, n, TK_STRING, tok(k + 1)%text)
           end do
           k = k + 2
         else
-          call make_error(error, RD_ERR_INPUT, where // "repeat count '" // tok(k)%text // &
+          call make_error(error, RD_ERR_INPUT, where // "repeat count '" // shown(tok(k)%text) // &
             "' without a value; expected n*value, e.g. 3*0.0 (null values are not supported)")
           return
         end if
@@ -509,25 +585,37 @@ contains
         exit
       end select
     end do
-    if (size(items) == 0) then
+    if (n == 0) then
       call make_error(error, RD_ERR_INPUT, where // 'no value given; expected a value after =')
     end if
+    allocate (items(n))
+    do j = 1, n
+      call move_alloc(all_items(j)%text, items(j)%text)
+      items(j)%kind = all_items(j)%kind
+    end do
   end subroutine collect_items
 
-  !> Append an item (explicit copy: gfortran 12 loses deferred-length
-  !> components in array constructors of structure constructors).
-  subroutine push_item(items, kind, text)
+  !> Append an item, doubling the storage when full so that a list of n values costs
+  !> O(n) (explicit copies: gfortran 12 loses deferred-length components in array
+  !> constructors of structure constructors).
+  subroutine push_item(items, n, kind, text)
     type(item_t), allocatable, intent(inout) :: items(:)
+    integer, intent(inout) :: n
     integer, intent(in) :: kind
     character(len=*), intent(in) :: text
     type(item_t), allocatable :: grown(:)
-    integer :: n
-    n = size(items)
-    allocate (grown(n + 1))
-    grown(1:n) = items
-    grown(n + 1)%kind = kind
-    grown(n + 1)%text = text
-    call move_alloc(grown, items)
+    integer :: i
+    if (n == size(items)) then
+      allocate (grown(max(16, 2 * n)))
+      do i = 1, n
+        call move_alloc(items(i)%text, grown(i)%text)
+        grown(i)%kind = items(i)%kind
+      end do
+      call move_alloc(grown, items)
+    end if
+    n = n + 1
+    items(n)%kind = kind
+    items(n)%text = text
   end subroutine push_item
 
   !> Convert the items to the parameter's type, check them and store them.
@@ -663,17 +751,17 @@ contains
       character(len=:), allocatable :: d
       logical :: lv, lok
       if (it%kind == TK_STRING) then
-        d = "a string '" // it%text // "'"
+        d = "a string '" // shown(it%text) // "'"
       else if (is_integer_text(it%text)) then
-        d = 'an integer ' // it%text
+        d = 'an integer ' // shown(it%text)
       else if (is_real_text(it%text)) then
-        d = 'a real number ' // it%text
+        d = 'a real number ' // shown(it%text)
       else
         call text_to_logical(it%text, lv, lok)
         if (lok) then
-          d = 'a logical ' // it%text
+          d = 'a logical ' // shown(it%text)
         else
-          d = "'" // it%text // "'"
+          d = "'" // shown(it%text) // "'"
         end if
       end if
     end function describe
@@ -687,7 +775,7 @@ contains
       if (good) good = is_real_text(it%text)
       if (.not. good) then
         if (it%kind == TK_WORD .and. scan(it%text, '0123456789') > 0) then
-          call make_error(error, RD_ERR_INPUT, where // "malformed number '" // it%text // &
+          call make_error(error, RD_ERR_INPUT, where // "malformed number '" // shown(it%text) // &
             "'; expected " // expect // ', written like 1.5, -2e3 or 1.0d-3')
         else
           call make_error(error, RD_ERR_INPUT, where // 'got ' // describe(it) // &
@@ -697,12 +785,12 @@ contains
       end if
       call text_to_real(it%text, val, good)
       if (.not. good) then
-        call make_error(error, RD_ERR_INPUT, where // "number '" // it%text // &
+        call make_error(error, RD_ERR_INPUT, where // "number '" // shown(it%text) // &
           "' overflows double precision; expected " // expect)
         return
       end if
       good = in_range(p, val)
-      if (.not. good) call make_error(error, RD_ERR_INPUT, where // 'value ' // it%text // &
+      if (.not. good) call make_error(error, RD_ERR_INPUT, where // 'value ' // shown(it%text) // &
         ' out of range; expected ' // expect)
     end subroutine convert_real
 
@@ -716,7 +804,7 @@ contains
       if (.not. good) then
         if (it%kind == TK_WORD .and. .not. is_real_text(it%text) .and. &
             scan(it%text, '0123456789') > 0) then
-          call make_error(error, RD_ERR_INPUT, where // "malformed number '" // it%text // &
+          call make_error(error, RD_ERR_INPUT, where // "malformed number '" // shown(it%text) // &
             "'; expected " // expect)
         else
           call make_error(error, RD_ERR_INPUT, where // 'got ' // describe(it) // &
@@ -726,12 +814,12 @@ contains
       end if
       call text_to_integer(it%text, val, good)
       if (.not. good) then
-        call make_error(error, RD_ERR_INPUT, where // "integer '" // it%text // &
+        call make_error(error, RD_ERR_INPUT, where // "integer '" // shown(it%text) // &
           "' too large; expected " // expect)
         return
       end if
       good = in_range(p, real(val, wp))
-      if (.not. good) call make_error(error, RD_ERR_INPUT, where // 'value ' // it%text // &
+      if (.not. good) call make_error(error, RD_ERR_INPUT, where // 'value ' // shown(it%text) // &
         ' out of range; expected ' // expect)
     end subroutine convert_integer
 
@@ -747,6 +835,21 @@ contains
         return
       end if
       val%s = it%text
+      if (p%unique) then
+        ! names become HDF5 group names and output paths (docs/output.md)
+        if (len_trim(it%text) == 0) then
+          call make_error(error, RD_ERR_INPUT, where // 'empty or blank name; expected a ' // &
+            "non-blank name without '/' (it names the results' groups)")
+          good = .false.
+        else if (index(it%text, '/') > 0 .or. it%text == '.' .or. it%text == '..' .or. &
+                 it%text(1:1) == ' ' .or. it%text(len(it%text):len(it%text)) == ' ') then
+          call make_error(error, RD_ERR_INPUT, where // "name '" // shown(it%text) // &
+            "' cannot name a results group; expected a name without '/', not '.' or '..', " // &
+            'without leading or trailing blanks')
+          good = .false.
+        end if
+        if (.not. good) return
+      end if
       if (size(p%allowed) == 0) return
       good = .false.
       do j = 1, size(p%allowed)
@@ -759,7 +862,7 @@ contains
           character(len=:), allocatable :: hint
           hint = suggest_name(it%text, p%allowed)
           if (len(hint) > 0) hint = " (did you mean '" // hint // "'?)"
-          call make_error(error, RD_ERR_INPUT, where // "'" // it%text // &
+          call make_error(error, RD_ERR_INPUT, where // "'" // shown(it%text) // &
             "' is not an allowed value; expected " // expect // hint)
         end block
       end if
@@ -847,11 +950,16 @@ contains
     end if
     v%resolved = path_join(dir, raw)
     if (p%must_exist) then
-      if (.not. file_exists(v%resolved)) then
+      select case (file_kind(v%resolved))
+      case (FILE_REGULAR)
+      case (FILE_MISSING)
         call make_error(error, RD_ERR_INPUT, where // "file not found: '" // raw // &
           "' (looked for '" // v%resolved // "'); expected an existing file, " // &
           "relative to the directory of the deck that names it")
-      end if
+      case default
+        call make_error(error, RD_ERR_INPUT, where // "'" // raw // "' " // &
+          regular_file_problem(v%resolved) // '; expected a regular file')
+      end select
     end if
   end subroutine resolve_path
 end module rd_deck_parser

@@ -390,7 +390,14 @@ contains
           call need(entities(i), 'wheel_profile', 'contact = ''profile''')
           if (allocated(error)) return
           call need(entities(i), 'rail_profile', 'contact = ''profile''')
+        else if (rval(entities(i), 'flange_clearance') > 0 .and. &
+                 .not. rval(entities(i), 'flange_stiffness') > 0) then
+          call make_error(error, RD_ERR_INPUT, &
+            where_value(schema, sources, entities(i), pidx(entities(i), 'flange_stiffness')) // &
+            'a flange stop at flange_clearance = ' // real_to_str(rval(entities(i), 'flange_clearance')) // &
+            ' m needs a stiffness; expected flange_stiffness > 0 (N/m)')
         end if
+        if (allocated(error)) return
         do k = 1, i - 1
           if (allocated(error)) exit
           if (entities(k)%group /= gws) cycle

@@ -263,8 +263,7 @@ contains
            'position and spin (no creep forces at rest), so a scene may start in a canted curve', &
            default='preload', allowed='preload|solve|none'), &
       preal('max_wheel_lift', 'm', 'wheel lift-off beyond this stops the run', default=0.005_wp, &
-            min=zero, min_open=.true.), &
-      plog('stop_on_derailment', 'stop the run when a wheel lifts beyond max_wheel_lift', .true.)])
+            min=zero, max=1.0_wp, min_open=.true., max_open=.true.)])
 
     call add_group(s, 'solver', .false., 'time integration', [ &
       pstr('method', 'integrator (bdf, adams: CVODE; erk: ARKODE explicit; rk4: fixed step)', &
@@ -298,7 +297,7 @@ contains
       pstr('progress', 'progress line on the terminal', default='auto', allowed='auto|on|off')])
 
     call add_group(s, 'track', .false., 'track layout and rail geometry', [ &
-      preal('gauge', 'm', 'track gauge', default=1.435_wp, min=0.5_wp, max=2.0_wp), &
+      preal('gauge', 'm', 'track gauge', default=1.435_wp, min=0.5_wp, max=2.0_wp, min_open=.true.), &
       preal('cant_base', 'm', 'distance between the rail contact points used for cant', &
             default=1.5_wp, min=0.5_wp, max=2.5_wp), &
       preal('rail_inclination', '-', 'tangent of the rail cant (1:40 = 0.025)', default=0.025_wp, &
@@ -374,11 +373,11 @@ contains
       preal('nominal_radius', 'm', 'nominal rolling radius', default=0.46_wp, min=0.2_wp, &
             max=0.7_wp, min_open=.true., max_open=.true.), &
       preal('contact_distance', 'm', 'distance between nominal contact points (knife edge)', &
-            default=1.5_wp, min=zero, min_open=.true.), &
+            default=1.5_wp, min=0.4_wp, max=3.0_wp, min_open=.true., max_open=.true.), &
       preal('conicity', '-', 'cone slope of the knife-edge wheels', default=0.05_wp, min=zero, &
-            max=1.0_wp), &
+            max=1.0_wp, max_open=.true.), &
       preal('back_to_back', 'm', 'distance between the wheel inner faces', default=1.360_wp, &
-            min=zero, min_open=.true.), &
+            min=0.5_wp, max=2.0_wp, min_open=.true., max_open=.true.), &
       preal('flange_back', 'm', 'lateral position of the flange back in the profile frame', &
             default=-0.070_wp), &
       pstr('creep_law', 'tangential contact law', default='fastsim', &
@@ -389,8 +388,9 @@ contains
            allowed='none|shen_hedrick_elkins'), &
       preal('friction', '-', 'wheel-rail friction coefficient', default=0.3_wp, min=zero, &
             max=1.0_wp), &
-      preal('shear_modulus', 'Pa', 'combined shear modulus', default=82.0e9_wp, min=zero, &
-            min_open=.true.), &
+      preal('shear_modulus', 'Pa', 'combined shear modulus (the bound keeps E = 2 G (1 + poisson) ' // &
+            'below the 1e15 Pa Hertz limit; steel: 8.2e10)', default=82.0e9_wp, min=zero, max=1.0e14_wp, &
+            min_open=.true., max_open=.true.), &
       preal('poisson', '-', 'Poisson ratio', default=0.28_wp, min=zero, max=0.5_wp, &
             max_open=.true.), &
       pint('fastsim_grid', '-', 'FASTSIM strips and elements per strip', 10, min=2, max=200), &
@@ -401,8 +401,9 @@ contains
       preal('polach_ks', '-', 'Polach reduction in the slip area', default=1.0_wp, min=zero, &
             max=1.0_wp, min_open=.true.), &
       preal('creep_velocity_min', 'm/s', 'regularisation of the creepage reference velocity', &
-            default=0.05_wp, min=zero, min_open=.true.), &
-      preal('contact_damping', 'N s/m', 'normal contact damping', default=zero, min=zero), &
+            default=0.05_wp, min=zero, max=100.0_wp, min_open=.true., max_open=.true.), &
+      preal('contact_damping', 'N s/m', 'normal contact damping', default=zero, min=zero, &
+            max=1.0e12_wp, max_open=.true.), &
       pstr('hertz_method', 'Hertz ellipse coefficients', default='elliptic', &
            allowed='elliptic|table'), &
       preal('rail_precant', '-', 'inclination already contained in the rail profile file (tan)', &
@@ -414,7 +415,8 @@ contains
       preal('flange_clearance', 'm', 'lateral free play to the flange stop (knife edge; 0 = no stop)', &
             default=zero, min=zero), &
       preal('flange_stiffness', 'N/m', 'lateral stiffness of the flange stop (knife edge)', &
-            default=zero, min=zero), &
+            default=zero, min=zero, max=1.0e15_wp, max_open=.true., &
+            cond='> 0 when flange_clearance > 0'), &
       preal('polach_friction_ratio', '-', 'Polach 2005: mu_inf / mu_0 (1 = no decay)', &
             default=1.0_wp, min=zero, max=1.0_wp, min_open=.true.), &
       preal('polach_friction_decay', 's/m', 'Polach 2005: B in mu = mu0((1-A) exp(-B w) + A)', &

@@ -15,7 +15,7 @@ module rd_deck_text
   private
   public :: deck_string_t, append_string, single_string, to_lower, int_to_str, real_to_str, edit_distance
   public :: is_integer_text, is_real_text, text_to_real, text_to_integer, text_to_logical
-  public :: path_dir, path_base, path_stem, path_join, is_absolute_path, file_exists
+  public :: path_dir, path_base, path_stem, path_join, is_absolute_path
 
   !> A variable-length string, element of string lists.
   type :: deck_string_t
@@ -319,9 +319,4 @@ contains
       j = dir // '/' // p
     end if
   end function path_join
-
-  logical function file_exists(p)
-    character(len=*), intent(in) :: p
-    inquire (file=p, exist=file_exists)
-  end function file_exists
 end module rd_deck_text
