@@ -6,6 +6,7 @@ module rd_runner_commands
   use rd_kinds, only: wp
   use rd_error, only: error_t, RD_ERR_INPUT
   use rd_scene, only: scene_t, raildyn_version
+  use rd_deck, only: deck_string_t
   use rd_cmd_hertz, only: run_hertz_command, hertz_usage
   use rd_cmd_creep, only: run_creep_command, creep_usage
   use rd_cmd_profile_scan, only: run_profile_scan_command, profile_scan_usage
@@ -207,8 +208,7 @@ contains
     json = any(args == '--json')
     call parse_deck_args(pack(args, args /= '--json'), check_usage, deck, output, step, csv, plot, progress, status)
     if (status /= 0) return
-    call scene%load_file(deck, error)
-    if (.not. allocated(error)) call scene%build(error)
+    call start_scene(scene, deck, output, .false., error)
     status = 0
     if (allocated(error)) call report(error, status)
     if (json) then
@@ -240,6 +240,29 @@ contains
     write (output_unit, '(a)') text // ']}'
   end subroutine print_check_json
 
+  !> Everything run does before its first step (read, build, results path, initial state,
+  !> static equilibrium, integrator set-up); check does the same without writing, so that
+  !> check and run agree. Warnings go to stderr, one line each; the caller reports `error`.
+  subroutine start_scene(scene, deck, output, write_output, error)
+    type(scene_t), intent(inout) :: scene
+    character(len=*), intent(in) :: deck, output
+    logical, intent(in) :: write_output
+    type(error_t), allocatable, intent(out) :: error
+    type(deck_string_t), allocatable :: warnings(:)
+    integer :: i
+    call scene%load_file(deck, error)
+    if (.not. allocated(error) .and. len(output) > 0) call scene%set_output_file(output)
+    if (.not. allocated(error)) call scene%build(error)
+    if (allocated(error)) return
+    ! printed before initialize: a failed initialize resets the scene to its deck
+    warnings = scene%warnings()
+    do i = 1, size(warnings)
+      write (error_unit, '(2a)') 'raildyn: warning: ', warnings(i)%s
+    end do
+    call scene%check_output_path(error)
+    if (.not. allocated(error)) call scene%initialize(write_output, error)
+  end subroutine start_scene
+
   subroutine command_run(args, status)
     character(len=*), intent(in) :: args(:)
     integer, intent(out) :: status
@@ -252,9 +275,7 @@ contains
     integer(int64) :: clock0, clock, rate, last_report
     call parse_deck_args(args, run_usage, deck, output, step, csv, plot, progress, status)
     if (status /= 0) return
-    call scene%load_file(deck, error)
-    if (.not. allocated(error) .and. len(output) > 0) call scene%set_output_file(output)
-    if (.not. allocated(error)) call scene%initialize(.true., error)
+    call start_scene(scene, deck, output, .true., error)
     if (allocated(error)) then
       call report(error, status)
       return

@@ -14,9 +14,10 @@ module rd_scene
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp, i8
-  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_HANDLE, &
+  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_HANDLE, RD_ERR_IO, &
                       RD_ERR_RUNTIME
   use rd_deck, only: deck_t, read_deck_file, read_deck_string, deck_string_t
+  use rd_file_kind, only: file_kind, FILE_DIRECTORY
   use rd_track_point, only: track_geometry_t, track_point_t
   use rd_speed_law, only: speed_law_t, constant_speed, table_speed
   use rd_hdf5_writer, only: h5_writer_t
@@ -26,7 +27,8 @@ module rd_scene
   use rd_scene_track, only: build_scene_track, build_scene_irregularity
   use rd_track_irregularity, only: track_irregularity_t
   use rd_scene_vehicle, only: build_bodies, build_element, build_external_loads, body_index, &
-                              build_wheelset_specs, check_rail_bodies
+                              build_wheelset_specs, check_rail_bodies, check_body_inertia, &
+                              stiffness_warnings, load_wheelset_profiles
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_wheelset_contact, only: wheelset_contact_t
   use rd_wheel_contact_result, only: MAX_PATCHES, N_PATCH_CHANNELS, N_WHEEL_CHANNELS, &
@@ -97,6 +99,8 @@ module rd_scene
     integer(int64) :: clock_start = 0
     !> Set when a run failed (advance): the error's message; the run cannot go on.
     character(len=:), allocatable :: failure
+    !> legal but suspicious input found while building (deck line first), for check and run
+    type(deck_string_t), allocatable :: warning_list(:)
   contains
     procedure :: load_file => scene_load_file
     procedure :: load_string => scene_load_string
@@ -120,6 +124,8 @@ module rd_scene
     procedure :: summary => scene_summary
     procedure :: completion_summary => scene_completion_summary
     procedure :: run_notes => scene_run_notes
+    procedure :: warnings => scene_warnings
+    procedure :: check_output_path => scene_check_output_path
     procedure :: default_output_file => scene_default_output_file
     procedure :: input_files => scene_input_files
     procedure :: vehicle_sigma => scene_vehicle_sigma
@@ -419,7 +425,14 @@ contains
       call self%deck%get('output', 1, 'flush_every', flush_every, error)
       if (allocated(error)) return
       call self%writer%open(path, error, flush_every=flush_every)
-      if (allocated(error)) return
+      if (allocated(error)) then
+        if (allocated(self%output_override)) then
+          call error_context(error, 'results file given with -o')
+        else
+          call error_context(error, self%deck%origin('output', 1, 'file'))
+        end if
+        return
+      end if
       self%writing = .true.
       call self%writer%write_text('meta/deck_text', self%deck%text(), error)
       if (allocated(error)) return
@@ -715,6 +728,9 @@ contains
 
     call build_bodies(self%deck, bodies, self%frame_offsets, error)
     if (allocated(error)) return
+    allocate (self%warning_list(0))
+    call check_body_inertia(self%deck, bodies, self%warning_list, error)
+    if (allocated(error)) return
     call check_rail_bodies(self%deck, bodies, self%frame_offsets, error)
     if (allocated(error)) return
     call self%deck%get('simulation', 1, 'gravity', gravity, error); if (allocated(error)) return
@@ -731,6 +747,7 @@ contains
         return
       end if
     end do
+    call stiffness_warnings(self%deck, bodies, self%warning_list)
     allocate (self%loads)
     call build_external_loads(self%deck, self%loads, error)
     if (allocated(error)) return
@@ -742,10 +759,18 @@ contains
         type(wheelset_contact_spec_t), allocatable :: specs(:)
         type(track_irregularity_t), allocatable :: irregularity
         character(len=:), allocatable :: name
+        character(len=512), allocatable :: labels(:)
         call build_wheelset_specs(self%deck, specs, error)
         if (allocated(error)) return
+        ! profile files read here, so that their errors name the deck line and the wheelset
+        call load_wheelset_profiles(self%deck, specs, error)
+        if (allocated(error)) return
+        allocate (labels(size(specs)))
+        do i = 1, size(specs)
+          labels(i) = self%deck%origin('wheelset', i)
+        end do
         allocate (self%contact)
-        call self%contact%init(specs, self%nbodies, error)
+        call self%contact%init(specs, self%nbodies, error, labels)
         if (allocated(error)) return
         ! track irregularities displace the rails under every wheelset (rd_track_irregularity)
         call build_scene_irregularity(self%deck, irregularity, error)
@@ -1129,6 +1154,46 @@ contains
   !> contact. A user must know that the results contain flights and impacts (flange bouncing,
   !> lift-off) before reading means off them; the runner prints them and the results file
   !> keeps them (/meta attribute 'notes', docs/output.md).
+  !> Warnings about legal but suspicious input (one line each, deck line first; empty
+  !> before build): raildyn check and run print them.
+  function scene_warnings(self) result(list)
+    class(scene_t), intent(in) :: self
+    type(deck_string_t), allocatable :: list(:)
+    if (allocated(self%warning_list)) then
+      list = self%warning_list
+    else
+      allocate (list(0))
+    end if
+  end function scene_warnings
+
+  !> The results file could be created: its directory exists and the path is not a
+  !> directory (raildyn check; run finds the same when it opens the file). Errors name
+  !> the deck line of &output 'file', or the -o option.
+  subroutine scene_check_output_path(self, error)
+    class(scene_t), intent(in) :: self
+    type(error_t), allocatable, intent(out) :: error
+    character(len=:), allocatable :: path, where, dir
+    integer :: slash
+    if (allocated(self%output_override)) then
+      path = self%output_override
+      where = 'results file given with -o'
+    else
+      path = self%deck%path('output', 1, 'file')
+      where = self%deck%origin('output', 1, 'file')
+    end if
+    slash = index(path, '/', back=.true.)
+    dir = '.'
+    if (slash == 1) dir = '/'
+    if (slash > 1) dir = path(1:slash - 1)
+    if (file_kind(path) == FILE_DIRECTORY .or. slash == len(path)) then
+      call make_error(error, RD_ERR_IO, where // ": '" // path // "' is a directory; expected " // &
+        'the name of a results file (.h5)')
+    else if (file_kind(dir) /= FILE_DIRECTORY) then
+      call make_error(error, RD_ERR_IO, where // ": the directory '" // dir // "' of '" // path // &
+        "' does not exist; expected an existing directory for the results file")
+    end if
+  end subroutine scene_check_output_path
+
   function scene_run_notes(self) result(notes)
     class(scene_t), intent(in) :: self
     character(len=:), allocatable :: notes

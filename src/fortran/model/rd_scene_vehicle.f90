@@ -4,9 +4,9 @@
 module rd_scene_vehicle
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT
-  use rd_text, only: real_text
   use rd_rotation, only: rot_x, rot_y, rot_z
   use rd_deck, only: deck_t, deck_string_t
+  use rd_deck_text, only: append_string, real_to_str
   use rd_body_spec, only: body_spec_t
   use rd_external_loads, only: external_loads_t, external_load_t, LOAD_FRAME_FIXED, &
                                LOAD_FRAME_TRACK, LOAD_FRAME_BODY
@@ -16,14 +16,41 @@ module rd_scene_vehicle
   use rd_nonlinear_spring, only: nonlinear_spring_t, make_force_table
   use rd_series_spring_damper, only: series_spring_damper_t
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
+  use rd_profile, only: profile_t
+  use rd_profile_source, only: load_wheel_profile, load_rail_profile
+  use rd_text, only: lower_case, real_text
   implicit none
   private
   public :: build_bodies, build_element, build_external_loads, body_index, build_wheelset_specs
-  public :: check_rail_bodies
+  public :: check_rail_bodies, check_body_inertia, stiffness_warnings, load_wheelset_profiles
 
   character(len=*), parameter :: dof_names(6) = [character(len=5) :: 'x', 'y', 'z', 'yaw', 'roll', 'pitch']
+  character(len=*), parameter :: inertia_names(3) = [character(len=3) :: 'ixx', 'iyy', 'izz']
+
+  !> Smallest radius of gyration sqrt(I/m) of a body [m]: a rigid body of a vehicle model
+  !> is larger than a millimetre; below it the rotational equations are so stiff (I -> 0
+  !> under finite moments) that the static solve and the integrators fail far from the
+  !> deck line that caused it (ixx = 1e-300 failed as "equilibrium did not converge").
+  real(wp), parameter :: min_gyration_radius = 1.0e-3_wp
+  !> Natural frequency sqrt(k/m) [Hz] above which a stiffness makes a run crawl: every
+  !> integrator must resolve it (a 1500 kg wheelset on 1e15 N/m, 130 kHz, took 20 times
+  !> as long per simulated second as on 1e11 N/m, 1.3 kHz). Wheel-rail contact, the
+  !> stiffest part of the shipped scenes, is below 1 kHz.
+  real(wp), parameter :: crawl_frequency = 5.0e3_wp
+  real(wp), parameter :: two_pi = 6.283185307179586_wp
 
 contains
+
+  !> x to 3 significant digits, for computed numbers in messages.
+  function approx(x) result(text)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: text
+    character(len=16) :: buf
+    real(wp) :: rounded
+    write (buf, '(es16.2e3)') x
+    read (buf, *) rounded
+    text = real_to_str(rounded)
+  end function approx
 
   !> Index of the body called `name` (0 for 'ground', -1 if unknown).
   integer function body_index(deck, name) result(ib)
@@ -155,6 +182,137 @@ contains
       call deck%get('wheelset', j, 'nominal_radius', bodies(i)%r0, error); if (allocated(error)) return
     end do
   end subroutine build_bodies
+
+  !> Inertia data that the schema's per-value ranges cannot judge, each reported at its
+  !> deck line: a radius of gyration below min_gyration_radius, and products of inertia
+  !> that leave the tensor not positive definite (errors). Warnings: diagonal moments
+  !> that break the triangle inequality (Ixx + Iyy >= Izz and permutations hold for any
+  !> mass distribution: Ixx + Iyy - Izz = 2 int z^2 dm), and a wheelset whose roll and
+  !> yaw moments differ (it spins about its axle, so the model's constant tensor in the
+  !> non-spinning frame needs an axisymmetric wheelset, ixx = izz).
+  subroutine check_body_inertia(deck, bodies, warnings, error)
+    type(deck_t), intent(in) :: deck
+    type(body_spec_t), intent(in) :: bodies(:)
+    type(deck_string_t), allocatable, intent(inout) :: warnings(:)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: i, a
+    real(wp) :: d(3), m, minor2, minor3
+    do i = 1, size(bodies)
+      d = [(bodies(i)%inertia(a, a), a=1, 3)]
+      m = bodies(i)%mass
+      do a = 1, 3
+        if (.not. d(a) >= m * min_gyration_radius**2) then
+          call make_error(error, RD_ERR_INPUT, deck%origin('body', i, inertia_names(a)) // ': ' // &
+            real_to_str(d(a)) // ' kg m2 gives a radius of gyration of ' // &
+            approx(sqrt(max(d(a), 0.0_wp) / m)) // ' m for the mass of ' // real_to_str(m) // &
+            ' kg; expected ' // trim(inertia_names(a)) // ' >= mass x (1 mm)^2 = ' // &
+            approx(m * min_gyration_radius**2) // ' kg m2')
+          return
+        end if
+      end do
+      associate (t => bodies(i)%inertia)
+        minor2 = t(1, 1) * t(2, 2) - t(1, 2)**2
+        minor3 = t(1, 1) * (t(2, 2) * t(3, 3) - t(2, 3)**2) - t(1, 2) * (t(1, 2) * t(3, 3) - t(2, 3) * t(1, 3)) &
+                 + t(1, 3) * (t(1, 2) * t(2, 3) - t(2, 2) * t(1, 3))
+        if (.not. (minor2 > 0 .and. minor3 > 0)) then
+          call make_error(error, RD_ERR_INPUT, deck%origin('body', i, merge('ixy', 'ixz', .not. minor2 > 0)) // &
+            ': the products of inertia (ixy = ' // real_to_str(t(1, 2)) // ', ixz = ' // &
+            real_to_str(t(1, 3)) // ', iyz = ' // real_to_str(t(2, 3)) // &
+            ') leave the inertia tensor not positive definite; expected products small against ' // &
+            'the moments (e.g. ixy**2 < ixx iyy)')
+          return
+        end if
+      end associate
+      do a = 1, 3
+        if (d(a) > d(mod(a, 3) + 1) + d(mod(a + 1, 3) + 1) + 1.0e-9_wp * maxval(d)) then
+          call append_string(warnings, deck%origin('body', i, inertia_names(a)) // ': ' // &
+            trim(inertia_names(a)) // ' = ' // real_to_str(d(a)) // ' kg m2 exceeds the sum of ' // &
+            'the other two moments (' // approx(d(mod(a, 3) + 1) + d(mod(a + 1, 3) + 1)) // &
+            ' kg m2), which no rigid body has; check the moments of inertia')
+          exit
+        end if
+      end do
+      if (bodies(i)%is_wheelset .and. abs(d(1) - d(3)) > 1.0e-6_wp * max(d(1), d(3))) then
+        call append_string(warnings, deck%origin('body', i, 'izz') // ': wheelset body with ixx = ' // &
+          real_to_str(d(1)) // ' and izz = ' // real_to_str(d(3)) // ' kg m2; a wheelset ' // &
+          'spins about its axle, and the equations of motion hold its inertia constant in the ' // &
+          'non-spinning frame, which needs ixx = izz (an axisymmetric wheelset)')
+      end if
+    end do
+  end subroutine check_body_inertia
+
+  !> A warning for every element whose stiffness puts a natural frequency above
+  !> crawl_frequency (f = sqrt(k / m) / 2 pi, m the reduced mass of the two bodies; the
+  !> moment of inertia about the same axis for torsion): legal, but the run crawls.
+  subroutine stiffness_warnings(deck, bodies, warnings)
+    type(deck_t), intent(in) :: deck
+    type(body_spec_t), intent(in) :: bodies(:)
+    type(deck_string_t), allocatable, intent(inout) :: warnings(:)
+    type(error_t), allocatable :: error
+    character(len=:), allocatable :: kind, b1, b2, param
+    real(wp), allocatable :: k(:), e(:), f(:)
+    real(wp) :: inertia1(3), inertia2(3), mass1, mass2, ks
+    integer :: i, ib1, ib2, a
+    do i = 1, deck%count('element')
+      call deck%get('element', i, 'type', kind, error); if (allocated(error)) return
+      call deck%get('element', i, 'body1', b1, error); if (allocated(error)) return
+      call deck%get('element', i, 'body2', b2, error); if (allocated(error)) return
+      ib1 = body_index(deck, b1); ib2 = body_index(deck, b2)
+      if (ib2 < 1 .or. ib1 < 0) cycle
+      mass2 = bodies(ib2)%mass
+      inertia2 = [(bodies(ib2)%inertia(a, a), a=1, 3)]
+      mass1 = huge(1.0_wp); inertia1 = huge(1.0_wp)   ! ground
+      if (ib1 > 0) then
+        mass1 = bodies(ib1)%mass
+        inertia1 = [(bodies(ib1)%inertia(a, a), a=1, 3)]
+      end if
+      select case (kind)
+      case ('spring_damper')
+        param = 'stiffness'
+        call deck%get('element', i, param, k, error); if (allocated(error)) return
+        call warn_if_crawling(maxval(abs(k)), reduced(mass1, mass2), 'kg')
+      case ('torsion')
+        param = 'torsion_stiffness'
+        call deck%get('element', i, param, k, error); if (allocated(error)) return
+        ! element axes roughly along the body axes: the smallest moment is the safe side
+        call warn_if_crawling(maxval(abs(k)), reduced(minval(inertia1), minval(inertia2)), 'kg m2')
+      case ('series_spring_damper')
+        param = 'series_stiffness'
+        call deck%get('element', i, param, ks, error); if (allocated(error)) return
+        call warn_if_crawling(ks, reduced(mass1, mass2), 'kg')
+      case ('table')
+        param = 'table_force'
+        call deck%get('element', i, 'table_deflection', e, error); if (allocated(error)) return
+        call deck%get('element', i, 'table_force', f, error); if (allocated(error)) return
+        if (size(e) >= 2) call warn_if_crawling(maxval(abs((f(2:) - f(:size(f) - 1)) / &
+                                                            (e(2:) - e(:size(e) - 1)))), reduced(mass1, mass2), 'kg')
+      end select
+    end do
+  contains
+    pure real(wp) function reduced(m1, m2)
+      real(wp), intent(in) :: m1, m2
+      if (m1 >= huge(1.0_wp)) then
+        reduced = m2
+      else
+        reduced = m1 * m2 / (m1 + m2)
+      end if
+    end function reduced
+
+    subroutine warn_if_crawling(stiffness, m, mass_unit)
+      real(wp), intent(in) :: stiffness, m
+      character(len=*), intent(in) :: mass_unit
+      real(wp) :: frequency
+      character(len=:), allocatable :: stiffness_unit
+      frequency = sqrt(stiffness / m) / two_pi
+      if (frequency <= crawl_frequency) return
+      stiffness_unit = merge('N m/rad', 'N/m    ', mass_unit == 'kg m2')
+      call append_string(warnings, deck%origin('element', i, param) // ': ' // real_to_str(stiffness) // &
+        ' ' // trim(stiffness_unit) // ' on ' // approx(m) // ' ' // mass_unit // ' gives a natural frequency of ' // &
+        approx(frequency) // ' Hz; the integrators must resolve it and the run will crawl ' // &
+        '(expected at most ' // approx(m * (two_pi * crawl_frequency)**2) // ' ' // trim(stiffness_unit) // &
+        ' for ' // approx(crawl_frequency) // ' Hz)')
+    end subroutine warn_if_crawling
+  end subroutine stiffness_warnings
 
   !> Element axes from the deck's (yaw, roll, pitch) angles, Z-X-Y as the body frames.
   pure function axes_from_angles(a) result(r)
@@ -452,4 +610,44 @@ contains
       end associate
     end do
   end subroutine build_wheelset_specs
+
+  !> Read the profile files named by the `&wheelset` groups (analytic keywords are left to
+  !> the contact), each error prefixed with the deck line and the wheelset that names the
+  !> file: "scene.nml:7: &wheelset 'wheel_profile' (wheelset 'w1'): wheel.prw:12: ...".
+  !> The left profiles are handed to the contact as read; right ones the contact reads
+  !> again (a few hundred lines).
+  subroutine load_wheelset_profiles(deck, specs, error)
+    type(deck_t), intent(in) :: deck
+    type(wheelset_contact_spec_t), intent(inout) :: specs(:)
+    type(error_t), allocatable, intent(out) :: error
+    character(len=*), parameter :: keys(4) = [character(len=19) :: 'wheel_profile', 'rail_profile', &
+                                              'wheel_profile_right', 'rail_profile_right']
+    type(profile_t) :: profile
+    character(len=:), allocatable :: path, name
+    integer :: i, j
+    do i = 1, size(specs)
+      if (specs(i)%model /= 'profile') cycle
+      call deck%get('wheelset', i, 'name', name, error); if (allocated(error)) return
+      do j = 1, size(keys)
+        if (.not. deck%given('wheelset', i, trim(keys(j)))) cycle
+        path = deck%path('wheelset', i, trim(keys(j)))
+        select case (lower_case(path))
+        case ('s1002', '60e1', '54e1', 'uic60')
+          cycle
+        end select
+        if (index(keys(j), 'wheel') == 1) then
+          call load_wheel_profile(path, profile, error)
+        else
+          call load_rail_profile(path, profile, error)
+        end if
+        if (allocated(error)) then
+          call error_context(error, deck%origin('wheelset', i, trim(keys(j))) // " (wheelset '" // &
+                             name // "')")
+          return
+        end if
+        if (j == 1) specs(i)%wheel_profile_data = profile
+        if (j == 2) specs(i)%rail_profile_data = profile
+      end do
+    end do
+  end subroutine load_wheelset_profiles
 end module rd_scene_vehicle

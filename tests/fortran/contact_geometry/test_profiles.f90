@@ -106,7 +106,8 @@ program test_profiles
   call write_file(tmp // 'nonmono.txt', [character(len=30) :: '# units: mm', '0 0        ', '10 1       ', '20 2       ', '15 3       ', &
                                   '30 4       ', '40 5       '])
   call read_profile_file(tmp // 'nonmono.txt', PROFILE_RAIL, p2, error)
-  call check(has(error, 'not strictly monotonic'), 'non-monotonic profile reported')
+  call check(has(error, 'nonmono.txt:5: lateral coordinate 0.015 m does not increase from the point at line 4 (0.02 m)'), &
+             'non-monotonic profile reported at its file line')
   call write_file(tmp // 'mm_units.txt', ['0 0  ', '20 1 ', '40 2 ', '60 3 ', '80 4 ', '100 5'])
   call read_profile_file(tmp // 'mm_units.txt', PROFILE_WHEEL, p2, error)
   call check(has(error, 'millimetres'), 'wheel of 100 "m" extent: suspected millimetres')
@@ -124,6 +125,22 @@ program test_profiles
     'table converted to metres')
   call read_profile_file(reference_path('profiles/MBench_UIC60_v3.prr'), PROFILE_WHEEL, p2, error)
   call check(has(error, 'type'), 'rail file read as wheel: header type mismatch reported')
+  ! a number longer than 64 characters is read whole (cut at 64 it read 1000 times too large)
+  call write_file(tmp // 'long_number.txt', [character(len=100) :: '-0.06 0', '-0.03 0', &
+    '0 2.' // repeat('0', 70) // 'e-3', '0.03 0', '0.06 0'])
+  call read_profile_file(tmp // 'long_number.txt', PROFILE_RAIL, p2, error)
+  call check(.not. allocated(error), 'a 75-character number reads')
+  if (.not. allocated(error)) call check(abs(p2%z(3) - 2.0e-3_wp) < 1e-18_wp, 'a 75-character number keeps its exponent')
+  ! a line over 1024 characters is an error at its line, not cut or dropped
+  call write_file(tmp // 'long_line.txt', [character(len=1100) :: '-0.06 0', '-0.03 0 ' // repeat(' ', 1030) // '# x', &
+    '0 0', '0.03 0', '0.06 0'])
+  call read_profile_file(tmp // 'long_line.txt', PROFILE_RAIL, p2, error)
+  call check(has(error, 'long_line.txt:2: line longer than 1024 characters'), 'over-long line reported at its line')
+  ! SIMPACK: a second point block is an error, not appended points
+  call write_file(tmp // 'two_blocks.prr', [character(len=30) :: 'header.begin', 'type = 0', 'header.end', &
+    'point.begin', '-60 0', '-30 0', '0 0', '30 0', '60 0', 'point.end', 'point.begin', '70 0', 'point.end'])
+  call read_profile_file(tmp // 'two_blocks.prr', PROFILE_RAIL, p2, error)
+  call check(has(error, 'two_blocks.prr:11: a second point.begin (the first at line 4)'), 'second point block reported')
   call read_profile_file(tmp // 'does_not_exist.prw', PROFILE_WHEEL, p2, error)
   call check(has(error, 'cannot open'), 'missing file reported')
   ! --- writers round trip
@@ -138,8 +155,9 @@ program test_profiles
   call read_profile_file(tmp // 'roundtrip.txt', PROFILE_RAIL, p2, error)
   if (.not. allocated(error)) call check(maxval(abs(p2%y - prof%y)) + maxval(abs(p2%z - prof%z)) < 1e-15_wp, &
     'table round trip exact')
-  call cleanup(['bad_points.txt', 'few_points.txt', 'nonmono.txt   ', 'mm_units.txt  ', 'tiny.txt      ', &
-                'csv_mm.csv    ', 'nan.txt       ', 'roundtrip.prr ', 'roundtrip.txt '])
+  call cleanup([character(len=16) :: 'bad_points.txt', 'few_points.txt', 'nonmono.txt   ', 'mm_units.txt  ', 'tiny.txt      ', &
+                'csv_mm.csv    ', 'nan.txt       ', 'roundtrip.prr ', 'roundtrip.txt ', &
+                'long_number.txt', 'long_line.txt  ', 'two_blocks.prr '])
   if (failures > 0) error stop 1
 
 contains

@@ -9,7 +9,9 @@
 !> commas; `#` or `!` start comments; metres unless a comment states `units: mm` (or cm, m);
 !> columns are already in our conventions (wheel: s, F; rail: y field-positive, z up).
 module rd_profile_io
-  use rd_text, only: lower_case
+  use, intrinsic :: iso_fortran_env, only: iostat_end, iostat_eor
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use rd_text, only: lower_case, int_text, real_text
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_IO
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL, validate_profile, profile_kind_name
@@ -20,6 +22,69 @@ module rd_profile_io
   integer, parameter :: max_line = 1024
 
 contains
+
+  !> Next line of a profile file; ios as READ's (0, or iostat_end at the end). A line
+  !> longer than max_line is an error naming it, never cut silently (a cut line could
+  !> still parse as numbers).
+  subroutine read_line(unit, path, nline, line, ios, error)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: path
+    integer, intent(inout) :: nline
+    character(len=max_line), intent(out) :: line
+    integer, intent(out) :: ios
+    type(error_t), allocatable, intent(inout) :: error
+    character(len=max_line + 1) :: buffer
+    integer :: n
+    line = ' '
+    read (unit, '(a)', advance='no', size=n, iostat=ios) buffer
+    if (ios == iostat_end) return
+    nline = nline + 1
+    if (ios == 0 .or. n > max_line) then
+      call make_error(error, RD_ERR_INPUT, trim(path) // ':' // trim(int_text(nline)) // &
+        ': line longer than ' // trim(int_text(max_line)) // ' characters; expected one point or ' // &
+        'header entry per line')
+      ios = 1
+      return
+    end if
+    if (ios == iostat_eor) ios = 0
+    if (ios /= 0) then
+      call make_error(error, RD_ERR_IO, trim(path) // ':' // trim(int_text(nline)) // ': cannot be read')
+      return
+    end if
+    line = buffer(1:n)
+  end subroutine read_line
+
+  !> The points in metres, with the file line of each: finite, and strictly monotonic in
+  !> y in one direction or the other (validate_profile reverses a decreasing profile);
+  !> errors name the file line (validate_profile, which has no lines, names points).
+  subroutine check_point_lines(path, y, z, lines, error)
+    character(len=*), intent(in) :: path
+    real(wp), intent(in) :: y(:), z(:)
+    integer, intent(in) :: lines(:)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: i, n
+    real(wp) :: direction
+    n = size(y)
+    do i = 1, n
+      if (.not. (ieee_is_finite(y(i)) .and. ieee_is_finite(z(i)))) then
+        call make_error(error, RD_ERR_INPUT, trim(path) // ':' // trim(int_text(lines(i))) // &
+          ': coordinate not finite; expected finite numbers')
+        return
+      end if
+    end do
+    if (n < 2) return
+    direction = sign(1.0_wp, y(n) - y(1))
+    do i = 2, n
+      if (.not. (direction * (y(i) - y(i - 1)) > 0)) then
+        call make_error(error, RD_ERR_INPUT, trim(path) // ':' // trim(int_text(lines(i))) // &
+          ': lateral coordinate ' // trim(real_text(y(i))) // ' m does not ' // &
+          trim(merge('increase', 'decrease', direction > 0)) // ' from the point at line ' // &
+          trim(int_text(lines(i - 1))) // ' (' // trim(real_text(y(i - 1))) // ' m); expected a graph ' // &
+          'z(y): strictly monotonic y, no overhangs or repeated points')
+        return
+      end if
+    end do
+  end subroutine check_point_lines
 
   !> Read a profile file (SIMPACK if it contains `point.begin`, else a table) into metres.
   subroutine read_profile_file(path, kind, profile, error)
@@ -66,21 +131,22 @@ contains
     type(profile_t), intent(inout) :: profile
     type(error_t), allocatable, intent(out) :: error
     character(len=max_line) :: line, key, val
-    integer :: ios, nline, eq, n, ftype, mirror_y, mirror_z, inversion
+    integer :: ios, nline, eq, n, ftype, mirror_y, mirror_z, inversion, block_line
     logical :: in_points, in_header
     real(wp) :: ufac, afac, shift_y, shift_z, rot, a, b, c, yy, zz
     real(wp), allocatable :: ybuf(:), zbuf(:)
+    integer, allocatable :: lbuf(:)
     character(len=300) :: msg
 
     ufac = 1; afac = 1; shift_y = 0; shift_z = 0; rot = 0
     ftype = -1; mirror_y = 0; mirror_z = 0; inversion = 0
     in_points = .false.; in_header = .false.
-    allocate (ybuf(256), zbuf(256))
-    n = 0; nline = 0
+    allocate (ybuf(256), zbuf(256), lbuf(256))
+    n = 0; nline = 0; block_line = 0
     do
-      read (unit, '(a)', iostat=ios) line
+      call read_line(unit, path, nline, line, ios, error)
+      if (allocated(error)) return
       if (ios /= 0) exit
-      nline = nline + 1
       call strip_comment(line, '!')
       line = adjustl(line)
       if (len_trim(line) == 0) cycle
@@ -96,12 +162,18 @@ contains
           return
         end if
         n = n + 1
-        if (n > size(ybuf)) call grow(ybuf, zbuf)
-        ybuf(n) = a; zbuf(n) = b
+        if (n > size(ybuf)) call grow(ybuf, zbuf, lbuf)
+        ybuf(n) = a; zbuf(n) = b; lbuf(n) = nline
         cycle
       end if
       if (index(line, 'point.begin') == 1) then
-        in_points = .true.
+        if (block_line > 0) then
+          call make_error(error, RD_ERR_INPUT, trim(path) // ':' // trim(int_text(nline)) // &
+            ': a second point.begin (the first at line ' // trim(int_text(block_line)) // &
+            '); expected one point block per profile')
+          return
+        end if
+        in_points = .true.; block_line = nline
         cycle
       end if
       if (index(line, 'header.begin') == 1) in_header = .true.
@@ -164,8 +236,10 @@ contains
       end do
     end block
     if (inversion == 1 .and. n > 0) then
-      ybuf(1:n) = ybuf(n:1:-1); zbuf(1:n) = zbuf(n:1:-1)
+      ybuf(1:n) = ybuf(n:1:-1); zbuf(1:n) = zbuf(n:1:-1); lbuf(1:n) = lbuf(n:1:-1)
     end if
+    call check_point_lines(path, ybuf(1:n), zbuf(1:n), lbuf(1:n), error)
+    if (allocated(error)) return
     profile%y = ybuf(1:n)
     if (kind == PROFILE_WHEEL) then
       profile%z = zbuf(1:n)          ! z down = radius increase F
@@ -194,13 +268,14 @@ contains
     integer :: ios, nline, n, p
     real(wp) :: a, b, c, factor
     real(wp), allocatable :: ybuf(:), zbuf(:)
+    integer, allocatable :: lbuf(:)
     character(len=300) :: msg
-    allocate (ybuf(256), zbuf(256))
+    allocate (ybuf(256), zbuf(256), lbuf(256))
     factor = 1; n = 0; nline = 0
     do
-      read (unit, '(a)', iostat=ios) line
+      call read_line(unit, path, nline, line, ios, error)
+      if (allocated(error)) return
       if (ios /= 0) exit
-      nline = nline + 1
       p = scan(line, '#!')
       if (p > 0) then
         lower = lower_case(line(p + 1:))
@@ -223,11 +298,12 @@ contains
         return
       end if
       n = n + 1
-      if (n > size(ybuf)) call grow(ybuf, zbuf)
-      ybuf(n) = a; zbuf(n) = b
+      if (n > size(ybuf)) call grow(ybuf, zbuf, lbuf)
+      ybuf(n) = a; zbuf(n) = b; lbuf(n) = nline
     end do
     profile%y = ybuf(1:n) * factor
     profile%z = zbuf(1:n) * factor
+    call check_point_lines(path, profile%y, profile%z, lbuf(1:n), error)
   end subroutine read_table
 
   !> Two or three numbers (commas or blanks); false if fewer than two or junk.
@@ -235,7 +311,7 @@ contains
     character(len=*), intent(in) :: line
     real(wp), intent(out) :: a, b, c
     character(len=len(line)) :: work
-    character(len=64) :: tok(4)
+    character(len=len(line)) :: tok(4)   ! as long as the line: a long number is never cut
     integer :: i, ntok, ios, p, q
     work = line
     do i = 1, len(work)
@@ -280,15 +356,20 @@ contains
     if (p > 0) line(p:) = ' '
   end subroutine strip_comment
 
-  subroutine grow(a, b)
+  subroutine grow(a, b, lines)
     real(wp), allocatable, intent(inout) :: a(:), b(:)
+    integer, allocatable, intent(inout) :: lines(:)
     real(wp), allocatable :: t(:)
+    integer, allocatable :: l(:)
     allocate (t(2 * size(a)))
     t(:size(a)) = a
     call move_alloc(t, a)
     allocate (t(2 * size(b)))
     t(:size(b)) = b
     call move_alloc(t, b)
+    allocate (l(2 * size(lines)))
+    l(:size(lines)) = lines
+    call move_alloc(l, lines)
   end subroutine grow
 
   !> Write a plain y-z table in metres with a header comment (our conventions).

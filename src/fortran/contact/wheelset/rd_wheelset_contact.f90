@@ -94,11 +94,14 @@ module rd_wheelset_contact
 contains
 
   !> Build the pipeline of every wheelset from its spec. `nbodies` bounds the body indices.
-  subroutine wheelset_contact_init(self, specs, nbodies, error)
+  !> `labels` (e.g. the deck line of each &wheelset) prefix the errors of each wheelset
+  !> instead of "wheelset contact N".
+  subroutine wheelset_contact_init(self, specs, nbodies, error, labels)
     class(wheelset_contact_t), intent(inout) :: self
     type(wheelset_contact_spec_t), intent(in) :: specs(:)
     integer, intent(in) :: nbodies
     type(error_t), allocatable, intent(out) :: error
+    character(len=*), intent(in), optional :: labels(:)
     integer :: i, j
     character(len=16) :: num
     if (allocated(self%models)) deallocate (self%models)
@@ -110,7 +113,11 @@ contains
       call build_one(specs(i), self%models(i), error)
       if (allocated(error)) then
         write (num, '(i0)') i
-        call error_context(error, 'wheelset contact ' // trim(num))
+        if (present(labels)) then
+          call error_context(error, trim(labels(i)))
+        else
+          call error_context(error, 'wheelset contact ' // trim(num))
+        end if
         return
       end if
       do j = 1, i - 1
