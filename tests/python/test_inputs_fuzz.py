@@ -186,6 +186,27 @@ def test_outside_the_documented_range_both_refuse_at_the_line(raildyn_exe, tmp_p
     assert not (tmp_path / "out.h5").exists()
 
 
+@pytest.mark.inputs_agree
+@pytest.mark.parametrize("radius,ok", [("1e-300", False), ("9.99", False), ("10.0", True)])
+def test_curve_radius_bound(raildyn_exe, tmp_path, radius, ok):
+    """A curve of radius 1e-300 m passed check and gave NaN accelerations in run; the
+    documented bound (>= 10 m) is refused by both at the line, and accepted at the bound."""
+    deck = KNIFE.replace("&segment type = 'straight', length = 500.0 /",
+                         "&segment type = 'straight', length = 10.0 /\n"
+                         f"&segment type = 'clothoid', length = 30.0, radius = {radius}, side = 'left' /\n"
+                         f"&segment type = 'curve', length = 500.0, radius = {radius}, side = 'left' /")
+    deck = deck.replace("speed = 20.0,", "speed = 20.0, start_sigma = 60.0,")
+    p = tmp_path / "scene.nml"
+    p.write_text(deck)
+    chk, rn = check_and_run(raildyn_exe, p, tmp_path)
+    if ok:
+        assert chk.returncode == 0 and rn.returncode == 0, (chk.stderr, rn.stderr)
+    else:
+        for res in (chk, rn):
+            assert res.returncode == 1
+            assert_one_clean_error(res, "scene.nml:4: &segment 'radius'", ">= 10")
+
+
 # Decks the schema's per-value ranges cannot judge: checked by the scene build, at the
 # deck line, by check as well as run (before: check said ok and run blamed 'equilibrium').
 BUILD_REFUSALS = {
@@ -299,6 +320,29 @@ def test_long_number_in_a_profile_is_read_whole(raildyn_exe, tmp_path):
     p = tmp_path / "scene.nml"
     p.write_text(PROFILE)
     assert run(raildyn_exe, "check", p).returncode == 0
+
+
+@pytest.mark.inputs_location
+@pytest.mark.parametrize("table", ["irregularity", "survey"])
+def test_overlong_table_line_is_an_error_at_both_lines(raildyn_exe, tmp_path, table):
+    """Irregularity and survey tables: a line over 4096 characters is an error naming the
+    deck line and the table's line (it was cut and its first columns read as data)."""
+    if table == "irregularity":
+        rows = [f"{s:.1f} 0 0 0 0" for s in range(0, 600, 10)]
+        param, deck = "irregularity_file", KNIFE + "&track irregularity_file = 'table.txt' /\n"
+    else:
+        rows = [f"{x:.1f} 0 0 0" for x in range(0, 600, 10)]
+        param = "survey_file"
+        deck = KNIFE.replace("&segment type = 'straight', length = 500.0 /",
+                             "&track survey_file = 'table.txt' /")
+    rows[3] = rows[3] + " " * 4100 + "# long comment"
+    (tmp_path / "table.txt").write_text("\n".join(rows) + "\n")
+    p = tmp_path / "scene.nml"
+    p.write_text(deck)
+    line = deck[:deck.index(param)].count("\n") + 1
+    res = run(raildyn_exe, "check", p)
+    assert_one_clean_error(res, f"scene.nml:{line}: &track '{param}'", "table.txt:4:",
+                           "line longer than 4096 characters")
 
 
 @pytest.mark.inputs_location

@@ -47,7 +47,7 @@ BAD_DECKS = {
         GOOD_TRACK.replace("length = 50.0", "length = -50.0"), 3, "segment", "length", ["> 0"]),
     "zero radius": (
         GOOD_TRACK.replace("length = 60.0, radius = 150.0", "length = 60.0, radius = 0.0"),
-        5, "segment", "radius", ["> 0"]),
+        5, "segment", "radius", [">= 10"]),
     "curvature change without transition": (
         GOOD_TRACK.replace("&segment type = 'clothoid', length = 30.0, radius = 150.0, "
                            "side = 'left', cant = 0.100 /\n", "")

@@ -25,6 +25,7 @@ module rd_survey_track
   use rd_cubic_spline, only: spline_not_a_knot, locate_interval
   use rd_gauss_legendre, only: gauss_legendre
   use rd_numeric_line, only: numeric_line_t, parse_numeric_line
+  use rd_line_reader, only: read_line
   implicit none
   private
   public :: survey_track_t, build_survey_track, read_survey_file
@@ -326,9 +327,11 @@ contains
     n = 0
     line_no = 0
     do
-      read (unit, '(a)', iostat=ios) line
+      call read_line(unit, path, line_no, line, ios, error)
+      if (allocated(error)) then
+        close (unit); return
+      end if
       if (ios /= 0) exit
-      line_no = line_no + 1
       call parse_numeric_line(line, values, info)
       if (info%blank) cycle
       ! exactly four numeric tokens

@@ -26,6 +26,7 @@ module rd_track_irregularity
   use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_IO
   use rd_cubic_spline, only: locate_interval
   use rd_numeric_line, only: numeric_line_t, parse_numeric_line
+  use rd_line_reader, only: read_line
   implicit none
   private
   public :: track_irregularity_t, build_track_irregularity, read_irregularity_file
@@ -136,9 +137,11 @@ contains
     line_no = 0
     last_line = 0
     do
-      read (unit, '(a)', iostat=ios) line
+      call read_line(unit, path, line_no, line, ios, error)
+      if (allocated(error)) then
+        close (unit); return
+      end if
       if (ios /= 0) exit
-      line_no = line_no + 1
       call parse_numeric_line(line, row, info)
       if (info%blank) cycle
       if (info%bad_column > 0) then

@@ -72,7 +72,7 @@ program test_deck_errors
   call case('negative mass', sim // "&body name = 'b', mass = -1.0 /", &
     "case.nml:2: &body 'mass'", 'value -1.0 out of range', 'expected a real number > 0 (kg)')
   call case('zero radius', sim // "&segment type = 'curve', length = 50.0, radius = 0.0 /", &
-    "case.nml:2: &segment 'radius'", 'value 0.0 out of range', 'expected a real number > 0 (m)')
+    "case.nml:2: &segment 'radius'", 'value 0.0 out of range', 'expected a real number >= 10 (m)')
   call case('cant above the range', sim // &
     "&segment type = 'curve', length = 50.0, radius = 300.0, side = 'left', cant = 0.35 /", &
     "case.nml:2: &segment 'cant'", 'value 0.35 out of range', &
@@ -128,7 +128,7 @@ program test_deck_errors
     "case.nml:1: &simulation 'speed_times'", 'missing, required with speed_values', &
     'expected a list of real numbers')
   call case('curve without radius', sim // "&segment type = 'curve', length = 50.0 /", &
-    "case.nml:2: &segment 'radius'", "required with type = 'curve'", 'expected a real number > 0 (m)')
+    "case.nml:2: &segment 'radius'", "required with type = 'curve'", 'expected a real number >= 10 (m)')
   call case('radius without side', sim // "&segment type = 'curve', length = 50.0, radius = 300.0 /", &
     "case.nml:2: &segment 'side'", 'required with radius', "expected one of 'left', 'right'")
   call case('table lengths', sim // body // "&element name = 't', type = 'table', body2 = 'bogie1'," &

@@ -9,11 +9,11 @@
 !> commas; `#` or `!` start comments; metres unless a comment states `units: mm` (or cm, m);
 !> columns are already in our conventions (wheel: s, F; rail: y field-positive, z up).
 module rd_profile_io
-  use, intrinsic :: iso_fortran_env, only: iostat_end, iostat_eor
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_text, only: lower_case, int_text, real_text
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_IO
+  use rd_line_reader, only: read_line
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL, validate_profile, profile_kind_name
   implicit none
   private
@@ -22,37 +22,6 @@ module rd_profile_io
   integer, parameter :: max_line = 1024
 
 contains
-
-  !> Next line of a profile file; ios as READ's (0, or iostat_end at the end). A line
-  !> longer than max_line is an error naming it, never cut silently (a cut line could
-  !> still parse as numbers).
-  subroutine read_line(unit, path, nline, line, ios, error)
-    integer, intent(in) :: unit
-    character(len=*), intent(in) :: path
-    integer, intent(inout) :: nline
-    character(len=max_line), intent(out) :: line
-    integer, intent(out) :: ios
-    type(error_t), allocatable, intent(inout) :: error
-    character(len=max_line + 1) :: buffer
-    integer :: n
-    line = ' '
-    read (unit, '(a)', advance='no', size=n, iostat=ios) buffer
-    if (ios == iostat_end) return
-    nline = nline + 1
-    if (ios == 0 .or. n > max_line) then
-      call make_error(error, RD_ERR_INPUT, trim(path) // ':' // trim(int_text(nline)) // &
-        ': line longer than ' // trim(int_text(max_line)) // ' characters; expected one point or ' // &
-        'header entry per line')
-      ios = 1
-      return
-    end if
-    if (ios == iostat_eor) ios = 0
-    if (ios /= 0) then
-      call make_error(error, RD_ERR_IO, trim(path) // ':' // trim(int_text(nline)) // ': cannot be read')
-      return
-    end if
-    line = buffer(1:n)
-  end subroutine read_line
 
   !> The points in metres, with the file line of each: finite, and strictly monotonic in
   !> y in one direction or the other (validate_profile reverses a decreasing profile);

@@ -317,8 +317,11 @@ contains
       pstr('type', 'segment kind', required=.true., allowed='straight|clothoid|curve'), &
       preal('length', 'm', 'length along the horizontal projection', required=.true., min=zero, &
             min_open=.true.), &
-      preal('radius', 'm', 'curve radius; for a clothoid the radius at its end', min=zero, &
-            min_open=.true., cond='required for curve; clothoid without it ends straight'), &
+      preal('radius', 'm', 'curve radius; for a clothoid the radius at its end (the bound lies ' // &
+            'below the tightest tramway curves, about 15 m, and well above the lateral offsets of ' // &
+            'bodies and contact points in the track frames, which the track-frame kinematics ' // &
+            'divide by; radius = 1e-300 gave NaN accelerations)', min=10.0_wp, &
+            cond='required for curve; clothoid without it ends straight'), &
       pstr('side', 'side towards which the track curves', allowed='left|right', &
            cond='required with radius'), &
       preal('cant', 'm', 'superelevation of the outer rail at the segment end', default=zero, &
