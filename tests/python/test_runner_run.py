@@ -4,6 +4,7 @@ import os
 import signal
 import subprocess
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -52,11 +53,23 @@ def test_run_writes_track_frames(raildyn_exe, tmp_path):
     assert np.allclose(w[i, 2], 4.4 / 150.0 * np.cos(np.arcsin(0.1 / 1.5)), rtol=1e-9)
 
 
-def test_default_output_next_to_deck(raildyn_exe, tmp_path):
-    d = deck(tmp_path, t_end=1.0)
-    res = subprocess.run([raildyn_exe, "run", d], capture_output=True, text=True, timeout=60)
+def test_default_output_in_working_directory(raildyn_exe, tmp_path):
+    """Without -o and without &output file the results go to the working directory, named
+    after the deck (not next to the deck: its folder may be read-only); a results file the
+    deck names stays relative to the deck."""
+    decks, work = tmp_path / "decks", tmp_path / "work"
+    decks.mkdir()
+    work.mkdir()
+    d = deck(decks, t_end=1.0)
+    res = subprocess.run([raildyn_exe, "run", d], capture_output=True, text=True, timeout=60, cwd=work)
     assert res.returncode == 0, res.stderr
-    assert (tmp_path / "tc1.h5").exists()
+    assert (work / "tc1.h5").exists() and not (decks / "tc1.h5").exists()
+    named = decks / "named.nml"
+    named.write_text(f"&include file = '{Path(d).name}' /\n&output file = 'out/named.h5' /\n")
+    (decks / "out").mkdir()
+    res = subprocess.run([raildyn_exe, "run", named], capture_output=True, text=True, timeout=60, cwd=work)
+    assert res.returncode == 0, res.stderr
+    assert (decks / "out" / "named.h5").exists()
 
 
 def test_track_export(raildyn_exe, tmp_path):

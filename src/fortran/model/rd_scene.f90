@@ -419,8 +419,10 @@ contains
     if (write_output) then
       if (allocated(self%output_override)) then
         path = self%output_override
-      else
+      else if (self%deck%given('output', 1, 'file')) then
         path = self%deck%path('output', 1, 'file')
+      else
+        path = self%default_output_file('.h5')
       end if
       call self%deck%get('output', 1, 'flush_every', flush_every, error)
       if (allocated(error)) return
@@ -1233,13 +1235,18 @@ contains
     files = self%deck%input_files()
   end function scene_input_files
 
-  !> The deck's path with its extension replaced by `suffix` (e.g. '_track.h5').
+  !> The results file's name with its extension replaced by `suffix` (e.g. '_track.h5'): in the
+  !> working directory, named after the deck, unless the deck names a results file.
   function scene_default_output_file(self, suffix) result(path)
     class(scene_t), intent(in) :: self
     character(len=*), intent(in) :: suffix
     character(len=:), allocatable :: path
     integer :: dot
     path = self%deck%path('output', 1, 'file')
+    ! a results file the deck names is where the deck says (relative to the deck); without
+    ! one, the results go to the working directory (a deck may sit in a read-only folder
+    ! shared by many runs), named after the deck
+    if (.not. self%deck%given('output', 1, 'file')) path = path(index(path, '/', back=.true.) + 1:)
     dot = index(path, '.', back=.true.)
     if (dot > index(path, '/', back=.true.)) path = path(1:dot - 1)
     path = path // suffix

@@ -283,7 +283,8 @@ contains
            'that share no force element (coloured) or one state at a time (dense, CVODE)', &
            default='coloured', allowed='coloured|dense', cond='used by bdf only')])
 
-    p = pstr('file', 'results file (HDF5), relative to the deck unless absolute')
+    p = pstr('file', 'results file (HDF5), relative to the deck unless absolute; not given: ' // &
+             'the deck stem + .h5 in the working directory (raildyn run -o overrides both)')
     p = path_param(p, .false.)
     p%default_kind = DEF_DECK_STEM; p%default_strings = single_string('.h5')
     call add_group(s, 'output', .false., 'results file and output rate', [ &
