@@ -57,7 +57,8 @@ int rd_create_from_file(const char *deck_path, rd_handle *handle);
 int rd_create_from_string(const char *deck_text, const char *base_dir, rd_handle *handle);
 
 /* Build the scene (track, bodies, elements, contact), set the initial state,
- * open the output file if the deck asks for one (write_output = 1) and write step 0. */
+ * open the results file (write_output = 1) and write step 0. The results file is the deck's
+ * &output file (relative to the deck), or else <deck stem>.h5 in the host's working directory. */
 int rd_initialize(rd_handle handle, int write_output);
 
 /* Integrate up to time t_target [s] (>= current time); outputs are written at the

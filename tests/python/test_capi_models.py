@@ -93,7 +93,9 @@ def test_errors_are_reported_per_handle(tmp_path):
     m.close()
 
 
-def test_output_file_through_api(tmp_path):
+def test_output_file_through_api(tmp_path, monkeypatch):
+    """Without &output file the results go to the host's working directory."""
+    monkeypatch.chdir(tmp_path)
     deck = tmp_path / "a.nml"
     deck.write_text(DECK_A)
     m = raildyn.Model.from_file(deck)

@@ -143,9 +143,10 @@ def test_runner_deck_with_irregularity_file(raildyn_exe, tmp_path):
     write_irregularity(tmp_path / "irr" / "rec.txt", s, alignment=np.array([1e-3, 1e-3]))
     deck = tmp_path / "scene.nml"
     deck.write_text(DECK.format(file="irr/rec.txt"))
-    res = run(raildyn_exe, "run", deck, cwd=REPO)
+    (tmp_path / "work").mkdir()
+    res = run(raildyn_exe, "run", deck, cwd=tmp_path / "work")
     assert res.returncode == 0, res.stderr
-    with h5py.File(tmp_path / "scene.h5", "r") as f:
+    with h5py.File(tmp_path / "work" / "scene.h5", "r") as f:
         y = f["bodies/ws1/position_track"][:, 1]
         assert "irr/rec.txt" in f["meta/deck_text"][()].decode()
     # kinematic wavelength 11 m: within 20 m the wheelset has moved well towards the rails

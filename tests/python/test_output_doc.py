@@ -42,7 +42,7 @@ def test_scene_channels_match_the_documentation():
     with tempfile.TemporaryDirectory() as d:
         deck = Path(d) / "w.nml"
         deck.write_text(f"&include file = '{REPO / 'inputs' / 'tgv_wheelset.nml'}' /\n"
-                        "&simulation t_end = 0.01 /\n")
+                        "&simulation t_end = 0.01 /\n&output file = 'w.h5' /\n")
         m = raildyn.Model.from_file(deck)
         m.initialize(write_output=True)
         m.advance(0.01)
