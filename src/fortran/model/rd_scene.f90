@@ -1144,12 +1144,24 @@ contains
            trim(int_text(self%deck%count('wheelset'))) // ' wheelsets, t_end ' // trim(real_text(self%t_end)) // ' s'
   end function scene_summary
 
-  !> One line for the runner: time reached and output steps, then 'note: ' + each run note.
+  !> One line for the runner: time reached, output steps and the integrator's effort (the
+  !> counters /meta/solver keeps: a run that took many steps or failed many error tests
+  !> shows it without opening the file), then 'note: ' + each run note.
   function scene_completion_summary(self) result(text)
     class(scene_t), intent(in) :: self
     character(len=:), allocatable :: text
+    type(integrator_stats_t) :: st
     text = 'completed t = ' // trim(real_text(self%t)) // ' s, ' // trim(int_text(int(self%output_steps))) // &
-           ' output steps' // self%contact_notes(new_line('a') // 'note: ')
+           ' output steps'
+    if (associated(self%integrator)) then
+      call self%integrator_stats(st)
+      text = text // '; solver: ' // trim(int_text(st%steps)) // ' steps, ' // &
+             trim(int_text(st%rhs_evals + st%rhs_evals_jacobian)) // ' RHS calls (' // &
+             trim(int_text(st%rhs_evals_jacobian)) // ' for Jacobians), ' // &
+             trim(int_text(st%error_test_failures)) // ' error-test failures, ' // &
+             trim(int_text(st%nonlinear_conv_failures)) // ' Newton failures'
+    end if
+    text = text // self%contact_notes(new_line('a') // 'note: ')
   end function scene_completion_summary
 
   !> The run's notes for readers, one per line ('' when there are none): wheels that lost
