@@ -58,3 +58,72 @@ def test_completion_line_matches_meta_solver(raildyn_exe, tmp_path):
         assert rhs_jac == s["n_rhs_jacobian"]
         assert err_fail == s["n_error_fail"]
         assert newton_fail == s["n_newton_fail"]
+
+
+def datasets(path):
+    names = []
+    with h5py.File(path, "r") as f:
+        f.visititems(lambda n, o: names.append(n) if isinstance(o, h5py.Dataset) else None)
+    return set(names)
+
+
+# A knife-edge wheelset resting on the rails: the contact groups (wheelsets, patches).
+WHEELSET = """&simulation title = 'rest', t_end = 0.02, speed = 5.0, equilibrium = 'none' /
+&output interval = 0.005 {output} /
+&segment type = 'straight', length = 100.0 /
+&body name = 'ws1', mass = 1500.0, ixx = 799.35, iyy = 93.75, izz = 799.35,
+      position = 0.0, 0.0, 0.44999, frozen = 'x', 'y', 'yaw', 'roll' /
+&wheelset name = 'w1', body = 'ws1', contact = 'knife_edge', nominal_radius = 0.45,
+      contact_distance = 1.5, conicity = 0.05, creep_law = 'linear' /
+"""
+
+
+def test_output_groups_select_the_written_series(raildyn_exe, tmp_path):
+    full, part = tmp_path / "full.h5", tmp_path / "part.h5"
+    run(raildyn_exe, "run", oscillator_deck(tmp_path, "full"), "-o", full)
+    run(raildyn_exe, "run", oscillator_deck(tmp_path, "part", output=", groups = 'bodies', 'state'"),
+        "-o", part)
+    every = datasets(full)
+    # the default writes every group
+    assert {n.split("/")[0] for n in every} == {"time", "meta", "vehicle", "track", "bodies",
+                                                "elements", "state"}
+    kept = datasets(part)
+    assert kept == {n for n in every if n.split("/")[0] in ("time", "meta", "bodies", "state")}
+    with h5py.File(full, "r") as a, h5py.File(part, "r") as b:
+        for name in kept - {"meta/deck_text"}:
+            assert (a[name][...] == b[name][...]).all(), name
+            assert dict(a[name].attrs) == dict(b[name].attrs), name
+        # the results file keeps the solver statistics whatever the selection
+        assert b["meta/solver"].attrs["n_steps"] == a["meta/solver"].attrs["n_steps"]
+
+
+def test_patches_are_their_own_group(raildyn_exe, tmp_path):
+    deck = tmp_path / "ws.nml"
+    deck.write_text(WHEELSET.format(output=", groups = 'wheelsets'"))
+    run(raildyn_exe, "run", deck, "-o", tmp_path / "ws.h5")
+    kept = datasets(tmp_path / "ws.h5") - {"time", "meta/deck_text"}
+    assert kept == {"wheelsets/w1/summary", "wheelsets/w1/rail_offsets",
+                    "wheelsets/w1/left/wheel", "wheelsets/w1/right/wheel"}
+    deck.write_text(WHEELSET.format(output=", groups = 'patches'"))
+    run(raildyn_exe, "run", deck, "-o", tmp_path / "ws.h5")
+    kept = datasets(tmp_path / "ws.h5") - {"time", "meta/deck_text"}
+    assert kept == {f"wheelsets/w1/{side}/patch{j}" for side in ("left", "right") for j in range(1, 5)}
+
+
+def test_unknown_output_group_names_the_deck_line(raildyn_exe, tmp_path):
+    deck = oscillator_deck(tmp_path, output=", groups = 'bodies', 'contact'")
+    err = run(raildyn_exe, "check", deck, expect=1).stderr
+    assert "osc.nml:3" in err and "groups" in err and "'contact'" in err, err
+
+
+def test_state_series_is_the_body_coordinates_and_rates(raildyn_exe, tmp_path):
+    # on straight track the generalized velocities are the relative rates (rd_multibody)
+    run(raildyn_exe, "run", oscillator_deck(tmp_path), "-o", tmp_path / "osc.h5")
+    with h5py.File(tmp_path / "osc.h5", "r") as f:
+        y = f["state/y"]
+        comps = y.attrs["components"].decode().split()
+        dofs = ["x", "y", "z", "yaw", "roll", "pitch"]
+        assert comps == [f"box.{d}" for d in dofs] + [f"box.nu_{d}" for d in dofs]
+        assert y.attrs["unit"].decode().split() == ["m"] * 3 + ["rad"] * 3 + ["m/s"] * 3 + ["rad/s"] * 3
+        assert (y[:, :6] == f["bodies/box/position_track"][...]).all()
+        assert abs(y[:, 6:] - f["bodies/box/velocity_track"][...]).max() < 1e-12

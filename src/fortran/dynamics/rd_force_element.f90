@@ -35,6 +35,7 @@ module rd_force_element
   contains
     procedure(evaluate_i), deferred :: evaluate
     procedure :: state_count => no_states
+    procedure :: state_units => no_state_units
     procedure :: initial_states => no_initial_states
     procedure :: preload_count => no_preload
     procedure :: get_preload => no_get_preload
@@ -62,6 +63,13 @@ contains
     class(force_element_t), intent(in) :: self
     n = 0
   end function no_states
+
+  !> SI unit token of each internal state (docs/output.md), for the results file's state;
+  !> units has state_count() elements.
+  pure subroutine no_state_units(self, units)
+    class(force_element_t), intent(in) :: self
+    character(len=*), intent(out) :: units(:)
+  end subroutine no_state_units
 
   !> Internal states at the start (e.g. a relaxed series damper), from the kinematics.
   pure subroutine no_initial_states(self, k1, k2, x)

@@ -22,6 +22,7 @@ module rd_series_spring_damper
   contains
     procedure :: evaluate => series_evaluate
     procedure :: state_count => series_state_count
+    procedure :: state_units => series_state_units
     procedure :: initial_states => series_initial_states
   end type series_spring_damper_t
 
@@ -31,6 +32,13 @@ contains
     class(series_spring_damper_t), intent(in) :: self
     n = 1
   end function series_state_count
+
+  !> x_d is the damper's elongation [m].
+  pure subroutine series_state_units(self, units)
+    class(series_spring_damper_t), intent(in) :: self
+    character(len=*), intent(out) :: units(:)
+    units(1) = 'm'
+  end subroutine series_state_units
 
   pure subroutine series_initial_states(self, k1, k2, x)
     class(series_spring_damper_t), intent(in) :: self

@@ -94,6 +94,8 @@ module rd_scene
     real(wp), allocatable :: max_sampled_q(:, :)
     real(wp), allocatable :: frame_offsets(:)   !< track frames at sigma_vehicle + offset
     type(output_set_t) :: outputs
+    !> &output groups: the channel groups written to the results file (channel_group)
+    type(deck_string_t), allocatable :: written_groups(:)
     type(h5_writer_t) :: writer
     integer, allocatable :: series(:)    !< writer series id of each output channel
     integer(int64) :: clock_start = 0
@@ -142,6 +144,7 @@ module rd_scene
     procedure, private :: contact_notes
     procedure, private :: register_outputs
     procedure, private :: mbs_element_count
+    procedure, private :: channel_written
   end type scene_t
 
 contains
@@ -199,6 +202,8 @@ contains
     call self%deck%get('output', 1, 'interval', self%interval, error)
     if (allocated(error)) return
     call self%deck%get('output', 1, 'mean_samples', self%average%samples, error)
+    if (allocated(error)) return
+    call self%deck%get('output', 1, 'groups', self%written_groups, error)
     if (allocated(error)) return
 
     if (self%deck%given('simulation', 1, 'speed_times')) then
@@ -336,7 +341,73 @@ contains
         end associate
       end do
     end if
+    if (associated(self%mbs)) then
+      block
+        character(len=:), allocatable :: components, units
+        call state_layout(self%mbs, components, units)
+        call self%outputs%add('state/y', self%mbs%state_size(), units, 'integrator state y = [q_f; nu_f; ' // &
+          'x_el] (free coordinates, generalized velocities, element states: rd_multibody); ' // &
+          'raildyn run --restart continues from a row of it', components, id)
+      end block
+    end if
   end subroutine register_outputs
+
+  !> Column names and SI unit tokens of the state vector, in rd_multibody's layout:
+  !> '<body>.<coordinate>' for q_f (a wheelset's pitch slot is its spin deviation beta),
+  !> '<body>.nu_<coordinate>' for nu_f, '<element>.x<k>' for the elements' internal states.
+  subroutine state_layout(mbs, components, units)
+    type(multibody_t), intent(in) :: mbs
+    character(len=:), allocatable, intent(out) :: components, units
+    character(len=5), parameter :: dof_names(6) = ['x    ', 'y    ', 'z    ', 'yaw  ', 'roll ', 'pitch']
+    character(len=5), parameter :: dof_units(6) = ['m    ', 'm    ', 'm    ', 'rad  ', 'rad  ', 'rad  ']
+    character(len=5), parameter :: rate_units(6) = ['m/s  ', 'm/s  ', 'm/s  ', 'rad/s', 'rad/s', 'rad/s']
+    character(len=:), allocatable :: q_names, q_units, nu_names, nu_units
+    character(len=16), allocatable :: el_units(:)
+    integer :: i, j, k
+    q_names = ''; q_units = ''; nu_names = ''; nu_units = ''
+    do i = 1, mbs%body_count()
+      do j = 1, 6
+        if (mbs%free_slot(i, j) == 0) cycle
+        q_names = q_names // ' ' // mbs%bodies(i)%name // '.' // trim(dof_names(j))
+        q_units = q_units // ' ' // trim(dof_units(j))
+        nu_names = nu_names // ' ' // mbs%bodies(i)%name // '.nu_' // trim(dof_names(j))
+        nu_units = nu_units // ' ' // trim(rate_units(j))
+      end do
+    end do
+    components = q_names // nu_names
+    units = q_units // nu_units
+    do i = 1, mbs%element_count()
+      if (allocated(el_units)) deallocate (el_units)
+      allocate (el_units(mbs%elements(i)%e%state_count()))
+      call mbs%elements(i)%e%state_units(el_units)
+      do k = 1, size(el_units)
+        components = components // ' ' // mbs%elements(i)%e%name // '.x' // trim(int_text(k))
+        units = units // ' ' // trim(el_units(k))
+      end do
+    end do
+    components = components(2:)
+    units = units(2:)
+  end subroutine state_layout
+
+  !> The &output groups entry a channel belongs to: its first path element, except the
+  !> contact patch slots ('patches') under 'wheelsets'.
+  pure function channel_group(name) result(group)
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: group
+    group = name(1:index(name // '/', '/') - 1)
+    if (group == 'wheelsets' .and. index(name, '/patch', back=.true.) > 0) group = 'patches'
+  end function channel_group
+
+  !> The channel is written to the results file (&output groups).
+  logical function channel_written(self, i)
+    class(scene_t), intent(in) :: self
+    integer, intent(in) :: i
+    integer :: g
+    channel_written = .false.
+    do g = 1, size(self%written_groups)
+      if (self%written_groups(g)%s == channel_group(self%outputs%channels(i)%name)) channel_written = .true.
+    end do
+  end function channel_written
 
   !> Space-separated unit tokens (docs/output.md: no spaces inside a token, '1' for none).
   pure function unit_tokens(units) result(text)
@@ -446,7 +517,9 @@ contains
       if (.not. allocated(error)) call self%writer%set_attribute('/', 'output_mean_samples', self%average%samples, error)
       if (allocated(error)) return
       allocate (self%series(self%outputs%n))
+      self%series = 0            ! 0: not written (&output groups)
       do i = 1, self%outputs%n
+        if (.not. self%channel_written(i)) cycle
         associate (c => self%outputs%channels(i))
           call self%writer%add_series(c%name, size(c%values), c%unit, c%description, &
                                       self%series(i), error, component_names=c%components)
@@ -586,7 +659,7 @@ contains
       k = 0
       do i = 1, self%outputs%n
         n = size(self%outputs%channels(i)%values)
-        call self%writer%set(self%series(i), values(k + 1:k + n), error)
+        if (self%series(i) > 0) call self%writer%set(self%series(i), values(k + 1:k + n), error)
         if (allocated(error)) return
         k = k + n
       end do
@@ -713,6 +786,7 @@ contains
           end do
         end block
       end if
+      self%outputs%channels(j)%values = self%y; j = j + 1
     end block
   end subroutine refresh_outputs
 

@@ -174,7 +174,11 @@ contains
       case (PT_STRING)
         call check(def == "'" // p%default_strings(1)%s // "'", id // 'default ' // def)
       case (PT_STRING_LIST)
-        call check(def == 'empty' .and. size(p%default_strings) == 0, id // 'default ' // def)
+        if (size(p%default_strings) == 0) then
+          call check(def == 'empty', id // 'default ' // def)
+        else
+          call check(same_list(def, p%default_strings), id // 'default ' // def)
+        end if
       end select
     end select
 

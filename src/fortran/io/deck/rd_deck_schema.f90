@@ -183,13 +183,16 @@ contains
     if (present(increasing)) p%increasing = increasing
   end function parray
 
-  function pstrlist(name, meaning, allowed) result(p)
+  !> String list; `allowed` and `default` (default: empty) are '|'-separated.
+  function pstrlist(name, meaning, allowed, default) result(p)
     character(len=*), intent(in) :: name, meaning, allowed
+    character(len=*), intent(in), optional :: default
     type(param_schema_t) :: p
     p = base(name, PT_STRING_LIST, '-', meaning)
     p%size = 0
     p%default_kind = DEF_VALUE
     p%allowed = strs(allowed)
+    if (present(default)) p%default_strings = strs(default)
   end function pstrlist
 
   function path_param(p, must_exist, keywords) result(q)
@@ -295,6 +298,12 @@ contains
            '(trapezoid rule on N sub-intervals: anti-aliasing of motions faster than the output rate)', &
            0, min=0, max=10000), &
       pint('flush_every', '-', 'output steps between flushes of the file', 50, min=1), &
+      pstrlist('groups', 'channel groups written to the results file (docs/output.md): vehicle ' // &
+               '(speed, distance), track (track frames), bodies, elements, wheelsets (summary, ' // &
+               'rail offsets, wheel resultants), patches (contact patch slots), state (integrator ' // &
+               'state, needed by raildyn run --restart); the C API sees every channel', &
+               'vehicle|track|bodies|elements|wheelsets|patches|state', &
+               default='vehicle|track|bodies|elements|wheelsets|patches|state'), &
       pstr('progress', 'progress line on the terminal', default='auto', allowed='auto|on|off')])
 
     call add_group(s, 'track', .false., 'track layout and rail geometry', [ &
@@ -556,6 +565,11 @@ contains
       case (PT_STRING); t = "'" // p%default_strings(1)%s // "'"
       case (PT_STRING_LIST)
         t = 'empty'
+        do i = 1, size(p%default_strings)
+          if (i == 1) t = ''
+          if (i > 1) t = t // ', '
+          t = t // p%default_strings(i)%s
+        end do
       end select
       if (p%default_kind == DEF_PREVIOUS) t = 'previous, first ' // t
     end select
