@@ -29,7 +29,8 @@ module rd_runner_commands
   character(len=*), parameter :: usage = &
     'usage: raildyn run DECK [-o OUT.h5] [--progress|--quiet] | check DECK [--json] | ' // &
     'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | ' // &
-    'campaign run|summary|decks CAMPAIGN.toml | hertz ... | creep ... | version | help [COMMAND]' // &
+    'campaign run|summary|decks CAMPAIGN.toml | export RESULTS.h5 --csv DIR | hertz ... | creep ... | ' // &
+    'version | help [COMMAND]' // &
     new_line('a') // '(raildyn COMMAND --help: the options of one command)'
   ! One usage line per command, printed by `raildyn COMMAND --help` (or -h) and `raildyn help
   ! COMMAND`, and with that command's usage errors. The campaign's options are its own
@@ -38,6 +39,7 @@ module rd_runner_commands
   character(len=*), parameter :: check_usage = 'usage: raildyn check DECK [--json]'
   character(len=*), parameter :: track_usage = &
     'usage: raildyn track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE]'
+  character(len=*), parameter :: export_usage = 'usage: raildyn export RESULTS.h5 --csv DIR'
   character(len=*), parameter :: version_usage = 'usage: raildyn version'
   character(len=*), parameter :: help_usage = 'usage: raildyn help [COMMAND]'
 
@@ -68,7 +70,9 @@ contains
     case ('profile-scan')
       call run_profile_scan_command(args(2:), status)
     case ('campaign')
-      call command_campaign(args(2:), status)
+      call command_python('raildyn.campaign', args(2:), status)
+    case ('export')
+      call command_python('raildyn.export', args(2:), status)
     case ('hertz')
       call run_hertz_command(args(2:), status)
     case ('creep')
@@ -117,6 +121,7 @@ contains
     case ('profile-scan'); text = profile_scan_usage
     case ('campaign'); text = 'usage: raildyn campaign run|summary|decks CAMPAIGN.toml [options] ' // &
                               '(raildyn campaign --help: the options)'
+    case ('export'); text = export_usage
     case ('hertz'); text = hertz_usage
     case ('creep'); text = creep_usage
     case ('version', '--version'); text = version_usage
@@ -351,17 +356,19 @@ contains
     if (progress >= 0) write (output_unit, '(2a)') 'raildyn: track alignment written to ', output
     status = 0
   end subroutine command_track
-  !> Parametric campaigns are driven by the Python package (raildyn.campaign), which runs
-  !> this executable once per parameter set, locally or as a Slurm job array.
-  subroutine command_campaign(args, status)
+  !> Commands driven by the Python package: parametric campaigns (raildyn.campaign runs this
+  !> executable once per parameter set, locally or as a Slurm job array) and the CSV export
+  !> of a results file (raildyn.export, h5py). The module's exit status is the command's.
+  subroutine command_python(module, args, status)
+    character(len=*), intent(in) :: module
     character(len=*), intent(in) :: args(:)
     integer, intent(out) :: status
     character(len=:), allocatable :: cmd
     integer :: i
-    cmd = python_command() // ' -m raildyn.campaign'
+    cmd = python_command() // ' -m ' // module
     do i = 1, size(args)
       cmd = cmd // ' ' // shell_quote(trim(args(i)))
     end do
     call execute_command_line(cmd, exitstat=status)
-  end subroutine command_campaign
+  end subroutine command_python
 end module rd_runner_commands

@@ -127,3 +127,39 @@ def test_state_series_is_the_body_coordinates_and_rates(raildyn_exe, tmp_path):
         assert y.attrs["unit"].decode().split() == ["m"] * 3 + ["rad"] * 3 + ["m/s"] * 3 + ["rad/s"] * 3
         assert (y[:, :6] == f["bodies/box/position_track"][...]).all()
         assert abs(y[:, 6:] - f["bodies/box/velocity_track"][...]).max() < 1e-12
+
+
+def read_csv(path):
+    import numpy as np
+    lines = path.read_text().splitlines()
+    return lines[0].split(","), np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+
+
+def test_export_writes_one_csv_per_series_with_the_files_units(raildyn_exe, tmp_path):
+    run(raildyn_exe, "run", oscillator_deck(tmp_path), "-o", tmp_path / "osc.h5")
+    out = run(raildyn_exe, "export", tmp_path / "osc.h5", "--csv", tmp_path / "csv").stdout
+    with h5py.File(tmp_path / "osc.h5", "r") as f:
+        series = []
+        f.visititems(lambda n, o: series.append(n) if isinstance(o, h5py.Dataset)
+                     and o.ndim == 2 else None)
+        assert f"{len(series)} CSV files" in out
+        files = {str(p.relative_to(tmp_path / "csv"))[:-4] for p in (tmp_path / "csv").rglob("*.csv")}
+        assert files == set(series)
+        for name in series:
+            header, table = read_csv(tmp_path / "csv" / f"{name}.csv")
+            comps = f[name].attrs["components"].decode().split()
+            units = f[name].attrs["unit"].decode().split()
+            units = units * len(comps) if len(units) == 1 else units
+            assert header == ["time [s]"] + [f"{c} [{u}]" for c, u in zip(comps, units)], name
+            assert (table[:, 0] == f["time"][...]).all()
+            assert (table[:, 1:] == f[name][...]).all(), name     # 17 digits: exact doubles
+
+
+def test_export_refuses_a_series_without_units(raildyn_exe, tmp_path, make_results_file):
+    import numpy as np
+    path = make_results_file("bare.h5", [0.0, 0.1],
+                             {"bodies/b/position_track": (np.zeros((2, 2)), "m m m", "x y", "")})
+    res = run(raildyn_exe, "export", path, "--csv", tmp_path / "csv", expect=1)
+    assert "bodies/b/position_track" in res.stderr and "'m m m'" in res.stderr, res.stderr
+    res = run(raildyn_exe, "export", tmp_path / "missing.h5", "--csv", tmp_path / "csv", expect=4)
+    assert "missing.h5: no such file" in res.stderr
