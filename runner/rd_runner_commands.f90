@@ -27,7 +27,7 @@ module rd_runner_commands
   end interface
 
   character(len=*), parameter :: usage = &
-    'usage: raildyn run DECK [-o OUT.h5] [--progress|--quiet] | check DECK [--json] | ' // &
+    'usage: raildyn run DECK [-o OUT.h5] [--restart RESULTS.h5] [--progress|--quiet] | check DECK [--json] | ' // &
     'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | ' // &
     'campaign run|summary|decks CAMPAIGN.toml | export RESULTS.h5 --csv DIR | hertz ... | creep ... | ' // &
     'version | help [COMMAND]' // &
@@ -35,7 +35,8 @@ module rd_runner_commands
   ! One usage line per command, printed by `raildyn COMMAND --help` (or -h) and `raildyn help
   ! COMMAND`, and with that command's usage errors. The campaign's options are its own
   ! (python -m raildyn.campaign answers --help itself).
-  character(len=*), parameter :: run_usage = 'usage: raildyn run DECK [-o OUT.h5] [--progress|--quiet]'
+  character(len=*), parameter :: run_usage = &
+    'usage: raildyn run DECK [-o OUT.h5] [--restart RESULTS.h5] [--progress|--quiet]'
   character(len=*), parameter :: check_usage = 'usage: raildyn check DECK [--json]'
   character(len=*), parameter :: track_usage = &
     'usage: raildyn track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE]'
@@ -146,21 +147,27 @@ contains
     end if
   end subroutine command_help
 
-  !> Split args into one positional deck and options; -o/--output, --step, --csv, --plot take
-  !> values. Usage errors print usage_line, the command's own.
-  subroutine parse_deck_args(args, usage_line, deck, output, step, csv, plot, progress, status)
+  !> Split args into one positional deck and options; -o/--output, --step, --csv, --plot,
+  !> --restart (run only) take values. Usage errors print usage_line, the command's own.
+  subroutine parse_deck_args(args, usage_line, deck, output, step, csv, plot, progress, status, restart)
     character(len=*), intent(in) :: args(:)
     character(len=*), intent(in) :: usage_line
     character(len=:), allocatable, intent(out) :: deck, output, csv, plot
+    character(len=:), allocatable, intent(out), optional :: restart
     real(wp), intent(out) :: step
     integer, intent(out) :: progress   !< -1 quiet, 0 auto, 1 forced
     integer, intent(out) :: status
     integer :: i, ios
     deck = ''; output = ''; csv = ''; plot = ''; step = 0; progress = 0; status = 0
+    if (present(restart)) restart = ''
     i = 1
     do while (i <= size(args))
+      if (trim(args(i)) == '--restart' .and. .not. present(restart)) then
+        call usage_error("unknown option '--restart' (raildyn run only)", usage_line, status)
+        return
+      end if
       select case (trim(args(i)))
-      case ('-o', '--output', '--step', '--csv', '--plot')
+      case ('-o', '--output', '--step', '--csv', '--plot', '--restart')
         if (i == size(args)) then
           call usage_error('option ' // trim(args(i)) // ' needs a value', usage_line, status)
           return
@@ -169,6 +176,7 @@ contains
         case ('-o', '--output'); output = trim(args(i + 1))
         case ('--csv'); csv = trim(args(i + 1))
         case ('--plot'); plot = trim(args(i + 1))
+        case ('--restart'); restart = trim(args(i + 1))
         case ('--step')
           read (args(i + 1), *, iostat=ios) step
           if (ios /= 0 .or. .not. (step > 0)) then
@@ -248,11 +256,12 @@ contains
   !> Everything run does before its first step (read, build, results path, initial state,
   !> static equilibrium, integrator set-up); check does the same without writing, so that
   !> check and run agree. Warnings go to stderr, one line each; the caller reports `error`.
-  subroutine start_scene(scene, deck, output, write_output, error)
+  subroutine start_scene(scene, deck, output, write_output, error, restart)
     type(scene_t), intent(inout) :: scene
     character(len=*), intent(in) :: deck, output
     logical, intent(in) :: write_output
     type(error_t), allocatable, intent(out) :: error
+    character(len=*), intent(in), optional :: restart   !< results file to continue ('' none)
     type(deck_string_t), allocatable :: warnings(:)
     integer :: i
     call scene%load_file(deck, error)
@@ -264,6 +273,10 @@ contains
     do i = 1, size(warnings)
       write (error_unit, '(2a)') 'raildyn: warning: ', warnings(i)%s
     end do
+    if (present(restart)) then
+      if (len(restart) > 0) call scene%continue_from(restart, error)
+      if (allocated(error)) return
+    end if
     call scene%check_output_path(error)
     if (.not. allocated(error)) call scene%initialize(write_output, error)
   end subroutine start_scene
@@ -271,16 +284,30 @@ contains
   subroutine command_run(args, status)
     character(len=*), intent(in) :: args(:)
     integer, intent(out) :: status
-    character(len=:), allocatable :: deck, output, csv, plot
+    character(len=:), allocatable :: deck, output, csv, plot, restart
     real(wp) :: step, t_end, t_next, chunk
-    integer :: progress
+    integer :: progress, dot
     logical :: show
     type(scene_t) :: scene
     type(error_t), allocatable :: error
     integer(int64) :: clock0, clock, rate, last_report
-    call parse_deck_args(args, run_usage, deck, output, step, csv, plot, progress, status)
+    call parse_deck_args(args, run_usage, deck, output, step, csv, plot, progress, status, restart)
     if (status /= 0) return
-    call start_scene(scene, deck, output, .true., error)
+    if (len(restart) > 0) then
+      ! a restart writes a new file (default RESULTS_restart.h5 beside RESULTS.h5), never
+      ! the one it continues: that one stays as it was
+      if (len(output) == 0) then
+        dot = index(restart, '.', back=.true.)
+        if (dot <= index(restart, '/', back=.true.)) dot = len(restart) + 1
+        output = restart(1:dot - 1) // '_restart.h5'
+      end if
+      if (output == restart) then
+        call usage_error('--restart ' // restart // ': the continued run writes a new file; ' // &
+                         '-o must name another one', run_usage, status)
+        return
+      end if
+    end if
+    call start_scene(scene, deck, output, .true., error, restart)
     if (allocated(error)) then
       call report(error, status)
       return

@@ -102,6 +102,8 @@ def load_library(path: str | None = None) -> ctypes.CDLL:
         "rd_get_time": (c_int, [h, ctypes.POINTER(c_double)]),
         "rd_get_state_size": (c_int, [h, ctypes.POINTER(c_int)]),
         "rd_get_state": (c_int, [h, _c_double_p, c_int]),
+        "rd_set_state": (c_int, [h, _c_double_p, c_int]),
+        "rd_set_start": (c_int, [h, c_double, _c_double_p, c_int]),
         "rd_output_count": (c_int, [h, ctypes.POINTER(c_int)]),
         "rd_output_name": (c_int, [h, c_int, ctypes.c_char_p, c_int]),
         "rd_output_size": (c_int, [h, c_char_p, ctypes.POINTER(c_int)]),
@@ -215,6 +217,17 @@ class Model:
         self._check(self._lib.rd_get_state(self.handle, values.ctypes.data_as(_c_double_p),
                                            size.value))
         return values
+
+    def set_state(self, state: Iterable[float]) -> None:
+        """Replace the state at the current time (after initialize)."""
+        array = np.ascontiguousarray(np.asarray(state, dtype=np.float64).ravel())
+        self._check(self._lib.rd_set_state(self.handle, array.ctypes.data_as(_c_double_p), array.size))
+
+    def set_start(self, time: float, state: Iterable[float]) -> None:
+        """A restart: start at ``time`` [s] from ``state`` (before initialize)."""
+        array = np.ascontiguousarray(np.asarray(state, dtype=np.float64).ravel())
+        self._check(self._lib.rd_set_start(self.handle, float(time),
+                                           array.ctypes.data_as(_c_double_p), array.size))
 
     # -- outputs and inputs ---------------------------------------------------------
     def output_names(self) -> list[str]:

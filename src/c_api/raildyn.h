@@ -72,6 +72,18 @@ int rd_get_time(rd_handle handle, double *time);
 int rd_get_state_size(rd_handle handle, int *size);
 int rd_get_state(rd_handle handle, double *state, int size);
 
+/* Replace the state at the current time (after rd_initialize; the integrator restarts
+ * there). size must be the state size (rd_get_state_size), values finite: otherwise
+ * RD_ERR_INPUT and nothing changes. Layout: docs/output.md, /state/y. */
+int rd_set_state(rd_handle handle, const double *state, int size);
+
+/* A restart: before rd_initialize, start the run at time [s] from state instead of the
+ * deck's initial state (the static setup still runs: element free lengths and preloads are
+ * part of the model). The first output row is (time, state); later rows follow the deck's
+ * output grid. Size and finiteness checked as rd_set_state; RD_ERR_HANDLE after
+ * rd_initialize. */
+int rd_set_start(rd_handle handle, double time, const double *state, int size);
+
 /* Named outputs at the current time: count, names, sizes, values (the state at that time,
  * also when the results file holds interval means, &output mean_samples). */
 int rd_output_count(rd_handle handle, int *count);

@@ -256,6 +256,47 @@ contains
     status = conclude(model, error)
   end function rd_get_state
 
+  function rd_set_state(handle, state, n) result(status) bind(C, name='rd_set_state')
+    integer(c_int64_t), value :: handle
+    type(c_ptr), value :: state
+    integer(c_int), value :: n
+    integer(c_int) :: status
+    type(capi_model_t), pointer :: model
+    type(error_t), allocatable :: error
+    real(c_double), pointer :: values(:)
+    character(len=:), allocatable :: problem
+    call lookup(handle, model, status)
+    if (status /= RD_OK) return
+    call c_doubles(state, n, 'state', values, problem)
+    if (len(problem) > 0) then
+      status = refuse(model, 'rd_set_state', problem)
+      return
+    end if
+    call model%scene%set_state(values, error)
+    status = conclude(model, error)
+  end function rd_set_state
+
+  function rd_set_start(handle, time, state, n) result(status) bind(C, name='rd_set_start')
+    integer(c_int64_t), value :: handle
+    real(c_double), value :: time
+    type(c_ptr), value :: state
+    integer(c_int), value :: n
+    integer(c_int) :: status
+    type(capi_model_t), pointer :: model
+    type(error_t), allocatable :: error
+    real(c_double), pointer :: values(:)
+    character(len=:), allocatable :: problem
+    call lookup(handle, model, status)
+    if (status /= RD_OK) return
+    call c_doubles(state, n, 'state', values, problem)
+    if (len(problem) > 0) then
+      status = refuse(model, 'rd_set_start', problem)
+      return
+    end if
+    call model%scene%set_start(time, values, error)
+    status = conclude(model, error)
+  end function rd_set_start
+
   function rd_output_count(handle, count) result(status) bind(C, name='rd_output_count')
     integer(c_int64_t), value :: handle
     type(c_ptr), value :: count

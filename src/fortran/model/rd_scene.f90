@@ -23,6 +23,7 @@ module rd_scene
   use rd_hdf5_writer, only: h5_writer_t
   use rd_output_set, only: output_set_t
   use rd_output_average, only: output_average_t
+  use rd_results_state, only: results_state_t, read_last_state
   use rd_text, only: int_text, real_text
   use rd_scene_track, only: build_scene_track, build_scene_irregularity
   use rd_track_irregularity, only: track_irregularity_t
@@ -103,6 +104,10 @@ module rd_scene
     character(len=:), allocatable :: failure
     !> legal but suspicious input found while building (deck line first), for check and run
     type(deck_string_t), allocatable :: warning_list(:)
+    !> A restart (set_start, continue_from): the run starts at start_time from start_state
+    !> instead of the deck's initial state.
+    real(wp) :: start_time = 0
+    real(wp), allocatable :: start_state(:)
   contains
     procedure :: load_file => scene_load_file
     procedure :: load_string => scene_load_string
@@ -118,6 +123,9 @@ module rd_scene
     procedure :: progress_wanted => scene_progress_wanted
     procedure :: state_size => scene_state_size
     procedure :: get_state => scene_get_state
+    procedure :: set_state => scene_set_state
+    procedure :: set_start => scene_set_start
+    procedure :: continue_from => scene_continue_from
     procedure :: output_count => scene_output_count
     procedure :: output_name => scene_output_name
     procedure :: output_size => scene_output_size
@@ -252,6 +260,11 @@ contains
     loaded%deck = scene%deck
     loaded%loaded = scene%loaded
     if (allocated(scene%output_override)) loaded%output_override = scene%output_override
+    ! a restart asked for stays asked for: a retry must not start from the deck silently
+    if (allocated(scene%start_state)) then
+      loaded%start_time = scene%start_time
+      loaded%start_state = scene%start_state
+    end if
     scene = loaded
   end subroutine reset_to_loaded
 
@@ -484,6 +497,22 @@ contains
     end if
     if (self%nbodies > 0) then
       call self%start_mechanics(error)
+      if (allocated(error)) return
+    end if
+    if (allocated(self%start_state)) then
+      ! a restart: the static setup above gave the elements their free lengths and
+      ! preloads as in the original run (they are part of the model); the state and the
+      ! time are the saved ones. Output rows stay on the grid k * interval after it.
+      if (self%average%samples > 0 .and. abs(self%start_time / self%interval - &
+          nint(self%start_time / self%interval)) > 1e-9_wp) then
+        call make_error(error, RD_ERR_INPUT, 'restart at t = ' // trim(real_text(self%start_time)) // &
+          ' s: with &output mean_samples > 0 the restart time must be a multiple of the output interval')
+        return
+      end if
+      self%t = self%start_time
+      self%y = self%start_state
+      self%output_steps = int(self%start_time / self%interval + 1e-9_wp, i8)
+      call self%integrator%reinit(self%t, self%y, error)
       if (allocated(error)) return
     end if
 
@@ -1104,6 +1133,121 @@ contains
     end if
     if (allocated(self%y)) y = self%y
   end subroutine scene_get_state
+
+  !> Replace the state at the current time (after initialize; the integrator restarts its
+  !> history there). y in the layout of rd_multibody (state/y, docs/output.md).
+  subroutine scene_set_state(self, y, error)
+    class(scene_t), intent(inout) :: self
+    real(wp), intent(in) :: y(:)
+    type(error_t), allocatable, intent(out) :: error
+    if (.not. self%initialized) then
+      call make_error(error, RD_ERR_HANDLE, 'set_state before initialize (set_start gives a ' // &
+                      'state to start from)')
+      return
+    end if
+    call check_state(self, y, 'set_state', error)
+    if (allocated(error)) return
+    self%y = y
+    call self%integrator%reinit(self%t, self%y, error)
+  end subroutine scene_set_state
+
+  !> Start the run at time t [s] from state y instead of the deck's initial state (a
+  !> restart; before initialize). The first output row is (t, y).
+  subroutine scene_set_start(self, t, y, error)
+    class(scene_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    type(error_t), allocatable, intent(out) :: error
+    if (self%initialized) then
+      call make_error(error, RD_ERR_HANDLE, 'set_start after initialize (set_state replaces ' // &
+                      'the state at the current time)')
+      return
+    end if
+    call self%build(error)
+    if (allocated(error)) return
+    if (.not. (ieee_is_finite(t) .and. t >= 0)) then
+      call make_error(error, RD_ERR_INPUT, 'set_start: the time must be finite and >= 0 [s]')
+      return
+    end if
+    call check_state(self, y, 'set_start', error)
+    if (allocated(error)) return
+    self%start_time = t
+    self%start_state = y
+  end subroutine scene_set_start
+
+  !> A restart from the last complete row of a results file's /state/y (rd_results_state):
+  !> the deck must describe the same state (the column names, i.e. bodies, their free
+  !> coordinates and the elements' states, must agree) and the file's rows must be states,
+  !> not interval means.
+  subroutine scene_continue_from(self, path, error)
+    class(scene_t), intent(inout) :: self
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(out) :: error
+    type(results_state_t) :: saved
+    integer :: id
+    call self%build(error)
+    if (allocated(error)) return
+    call read_last_state(path, saved, error)
+    if (allocated(error)) return
+    if (saved%mean_samples > 0) then
+      call make_error(error, RD_ERR_INPUT, '"' // path // '": its rows are interval means ' // &
+        '(output_mean_samples = ' // trim(int_text(saved%mean_samples)) // '), not states; ' // &
+        'a run cannot continue from it')
+      return
+    end if
+    call self%outputs%find('state/y', id, error)
+    if (allocated(error)) then
+      call make_error(error, RD_ERR_INPUT, '"' // path // '": the deck has no bodies, so no state ' // &
+                      'to continue from')
+      return
+    end if
+    if (saved%components /= self%outputs%channels(id)%components) then
+      call make_error(error, RD_ERR_INPUT, '"' // path // '": its state (' // &
+        trim(int_text(size(saved%y))) // ' values) is not the state of this deck (' // &
+        trim(int_text(self%mbs%state_size())) // ' values): ' // &
+        first_difference(saved%components, self%outputs%channels(id)%components))
+      return
+    end if
+    call self%set_start(saved%time, saved%y, error)
+    if (allocated(error)) call error_context(error, '"' // path // '"')
+  contains
+    !> "column k is 'a' in the file, 'b' in the deck" for the first differing word.
+    pure function first_difference(file_words, deck_words) result(text)
+      character(len=*), intent(in) :: file_words, deck_words
+      character(len=:), allocatable :: text
+      character(len=:), allocatable :: a, b
+      integer :: k, ia, ib
+      a = file_words // ' '; b = deck_words // ' '
+      k = 0
+      do
+        k = k + 1
+        ia = index(a, ' '); ib = index(b, ' ')
+        if (a(1:ia) /= b(1:ib) .or. len(a) <= 1 .or. len(b) <= 1) exit
+        a = a(ia + 1:); b = b(ib + 1:)
+      end do
+      text = 'column ' // trim(int_text(k)) // " is '" // trim(a(1:max(ia, 1))) // "' in the file, '" // &
+             trim(b(1:max(ib, 1))) // "' in the deck"
+    end function first_difference
+  end subroutine scene_continue_from
+
+  !> A state vector for this scene: the state size, finite.
+  subroutine check_state(self, y, what, error)
+    type(scene_t), intent(in) :: self
+    real(wp), intent(in) :: y(:)
+    character(len=*), intent(in) :: what
+    type(error_t), allocatable, intent(out) :: error
+    integer :: n
+    n = 0
+    if (associated(self%mbs)) n = self%mbs%state_size()
+    if (size(y) /= n .or. n == 0) then
+      call make_error(error, RD_ERR_INPUT, what // ': the state has ' // trim(int_text(size(y))) // &
+                      ' values; expected the state size ' // trim(int_text(n)))
+      return
+    end if
+    if (.not. all(ieee_is_finite(y))) then
+      call make_error(error, RD_ERR_INPUT, what // ': the state values must be finite')
+    end if
+  end subroutine check_state
 
   pure integer function scene_output_count(self)
     class(scene_t), intent(in) :: self
