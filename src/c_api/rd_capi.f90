@@ -112,6 +112,24 @@ contains
     end if
   end subroutine c_doubles
 
+  !> The model and the state array of a call (handle, state, n): status RD_OK, or the
+  !> refusal (unknown handle, NULL array, negative size), recorded on the handle.
+  subroutine state_call(handle, state, n, call_name, model, values, status)
+    integer(c_int64_t), intent(in) :: handle
+    type(c_ptr), intent(in) :: state
+    integer(c_int), intent(in) :: n
+    character(len=*), intent(in) :: call_name
+    type(capi_model_t), pointer, intent(out) :: model
+    real(c_double), pointer, intent(out) :: values(:)
+    integer(c_int), intent(out) :: status
+    character(len=:), allocatable :: problem
+    values => no_values
+    call lookup(handle, model, status)
+    if (status /= RD_OK) return
+    call c_doubles(state, n, 'state', values, problem)
+    if (len(problem) > 0) status = refuse(model, call_name, problem)
+  end subroutine state_call
+
   !> A C output buffer argument must be a pointer to at least one byte (the NUL).
   function buffer_problem(buffer, buffer_len, name) result(problem)
     type(c_ptr), intent(in) :: buffer
@@ -244,14 +262,8 @@ contains
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
     real(c_double), pointer :: values(:)
-    character(len=:), allocatable :: problem
-    call lookup(handle, model, status)
+    call state_call(handle, state, n, 'rd_get_state', model, values, status)
     if (status /= RD_OK) return
-    call c_doubles(state, n, 'state', values, problem)
-    if (len(problem) > 0) then
-      status = refuse(model, 'rd_get_state', problem)
-      return
-    end if
     call model%scene%get_state(values, error)
     status = conclude(model, error)
   end function rd_get_state
@@ -264,14 +276,8 @@ contains
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
     real(c_double), pointer :: values(:)
-    character(len=:), allocatable :: problem
-    call lookup(handle, model, status)
+    call state_call(handle, state, n, 'rd_set_state', model, values, status)
     if (status /= RD_OK) return
-    call c_doubles(state, n, 'state', values, problem)
-    if (len(problem) > 0) then
-      status = refuse(model, 'rd_set_state', problem)
-      return
-    end if
     call model%scene%set_state(values, error)
     status = conclude(model, error)
   end function rd_set_state
@@ -285,14 +291,8 @@ contains
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
     real(c_double), pointer :: values(:)
-    character(len=:), allocatable :: problem
-    call lookup(handle, model, status)
+    call state_call(handle, state, n, 'rd_set_start', model, values, status)
     if (status /= RD_OK) return
-    call c_doubles(state, n, 'state', values, problem)
-    if (len(problem) > 0) then
-      status = refuse(model, 'rd_set_start', problem)
-      return
-    end if
     call model%scene%set_start(time, values, error)
     status = conclude(model, error)
   end function rd_set_start

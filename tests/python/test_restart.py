@@ -153,6 +153,9 @@ def test_c_api_set_state_replaces_the_state_now(tmp_path):
             m.set_state(y[:3])
         assert e.value.status == 1
         np.testing.assert_array_equal(m.state(), y)    # unchanged by the refused call
+        lib = m._lib                                   # NULL array: a status, no crash
+        assert lib.rd_set_state(m.handle, None, y.size) == 1
+        assert lib.rd_set_start(m.handle, 0.0, None, y.size) == 1
         y[1] += 1e-3                                   # ws1 lateral shift +1 mm
         m.set_state(y)
         assert m.output("bodies/ws1/position_track")[1] == pytest.approx(y[1], abs=1e-15)

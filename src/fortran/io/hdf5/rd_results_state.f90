@@ -33,7 +33,8 @@ contains
     type(error_t), allocatable, intent(out) :: error
     integer(hid_t) :: file, fapl
     integer :: hdferr
-    real(wp), allocatable, target :: time(:), y(:, :)
+    real(wp), allocatable, target :: time(:, :), y(:, :)
+    character(len=:), allocatable :: time_name
     integer :: row
     logical :: exists
 
@@ -56,7 +57,7 @@ contains
       call make_error(error, RD_ERR_INPUT, '"' // path // '": no /state/y series (written when ' // &
                       "&output groups includes 'state', the default); a run cannot continue from it")
     end if
-    if (.not. allocated(error)) call read_series(file, 'time', time, error)
+    if (.not. allocated(error)) call read_table(file, 'time', time, time_name, error)
     if (.not. allocated(error)) call read_table(file, 'state/y', y, state%components, error)
     if (.not. allocated(error)) call read_int_attribute(file, 'output_mean_samples', state%mean_samples, error)
     call h5fclose_f(file, hdferr)
@@ -66,48 +67,19 @@ contains
       return
     end if
 
-    do row = min(size(time), size(y, 2)), 1, -1
-      if (ieee_is_finite(time(row)) .and. all(ieee_is_finite(y(:, row)))) exit
+    do row = min(size(time, 2), size(y, 2)), 1, -1
+      if (ieee_is_finite(time(1, row)) .and. all(ieee_is_finite(y(:, row)))) exit
     end do
     if (row < 1) then
       call make_error(error, RD_ERR_INPUT, '"' // path // '": no complete row in /state/y')
       return
     end if
-    state%time = time(row)
+    state%time = time(1, row)
     state%y = y(:, row)
   end subroutine read_last_state
 
-  !> A 1-D float64 dataset, whole.
-  subroutine read_series(file, name, values, error)
-    integer(hid_t), intent(in) :: file
-    character(len=*), intent(in) :: name
-    real(wp), allocatable, target, intent(out) :: values(:)
-    type(error_t), allocatable, intent(out) :: error
-    integer(hid_t) :: dset, space
-    integer(hsize_t) :: dims(1), maxdims(1)
-    integer :: hdferr, rank
-    type(c_ptr) :: ptr
-    call h5dopen_f(file, name, dset, hdferr)
-    if (hdferr < 0) then
-      call make_error(error, RD_ERR_INPUT, 'no dataset /' // name); return
-    end if
-    call h5dget_space_f(dset, space, hdferr)
-    call h5sget_simple_extent_ndims_f(space, rank, hdferr)
-    if (rank /= 1) then
-      call make_error(error, RD_ERR_INPUT, '/' // name // ' is not one-dimensional')
-    else
-      call h5sget_simple_extent_dims_f(space, dims, maxdims, hdferr)
-      allocate (values(dims(1)))
-      ptr = c_loc(values)
-      if (dims(1) > 0) call h5dread_f(dset, H5T_NATIVE_DOUBLE, ptr, hdferr)
-      if (hdferr < 0) call make_error(error, RD_ERR_IO, 'cannot read /' // name)
-    end if
-    call h5sclose_f(space, hdferr)
-    call h5dclose_f(dset, hdferr)
-  end subroutine read_series
-
-  !> A 2-D float64 series (rows x columns as h5py sees it; (columns, rows) here) and its
-  !> 'components' attribute.
+  !> A float64 dataset of rank 1 (n values, read as (1, n)) or 2 (h5py's rows x columns,
+  !> (columns, rows) here), whole, and its 'components' attribute.
   subroutine read_table(file, name, values, components, error)
     integer(hid_t), intent(in) :: file
     character(len=*), intent(in) :: name
@@ -126,10 +98,11 @@ contains
     end if
     call h5dget_space_f(dset, space, hdferr)
     call h5sget_simple_extent_ndims_f(space, rank, hdferr)
-    if (rank /= 2) then
-      call make_error(error, RD_ERR_INPUT, '/' // name // ' is not two-dimensional')
+    if (rank < 1 .or. rank > 2) then
+      call make_error(error, RD_ERR_INPUT, '/' // name // ' is not a series (rank 1 or 2)')
     else
-      call h5sget_simple_extent_dims_f(space, dims, maxdims, hdferr)
+      dims = 1
+      call h5sget_simple_extent_dims_f(space, dims(3 - rank:2), maxdims(3 - rank:2), hdferr)
       allocate (values(dims(1), dims(2)))
       ptr = c_loc(values)
       if (size(values) > 0) call h5dread_f(dset, H5T_NATIVE_DOUBLE, ptr, hdferr)
