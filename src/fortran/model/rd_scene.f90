@@ -1140,6 +1140,8 @@ contains
     class(scene_t), intent(inout) :: self
     real(wp), intent(in) :: y(:)
     type(error_t), allocatable, intent(out) :: error
+    call refuse_after_failure(self, error)
+    if (allocated(error)) return
     if (.not. self%initialized) then
       call make_error(error, RD_ERR_HANDLE, 'set_state before initialize (set_start gives a ' // &
                       'state to start from)')
