@@ -228,6 +228,7 @@ contains
       call print_check_json(deck, scene, error, status)
     else if (status == 0) then
       write (output_unit, '(3a)') 'raildyn: ', deck, ': ok (' // scene%summary() // ')'
+      write (output_unit, '(a)') scene%check_report()
     end if
   end subroutine command_check
 

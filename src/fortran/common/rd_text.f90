@@ -6,7 +6,7 @@ module rd_text
   use rd_kinds, only: wp, i8
   implicit none
   private
-  public :: int_text, real_text, sci_text, lower_case
+  public :: int_text, real_text, fixed_text, sci_text, lower_case
 
   interface int_text
     module procedure int_text_4, int_text_8
@@ -52,6 +52,24 @@ contains
       text = adjustl(text)
     end if
   end function real_text
+
+  !> Fixed-point with `decimals` digits after the point (>= 0), left-adjusted, a zero before
+  !> the point ("0.086", "-0.24", "12" for decimals = 0): figures printed for readers.
+  pure function fixed_text(x, decimals) result(text)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: decimals
+    character(len=32) :: text
+    character(len=16) :: edit
+    write (edit, '(a,i0,a)') '(f0.', decimals, ')'
+    write (text, edit) x
+    if (text(1:1) == '.') then
+      text = '0' // text
+    else if (text(1:2) == '-.') then
+      text = '-0' // text(2:)
+    end if
+    if (decimals == 0) text(len_trim(text):len_trim(text)) = ' '   ! '12.' -> '12'
+    if (text(1:1) == '-' .and. verify(trim(text), '-0.') == 0) text = text(2:)   ! no '-0.00'
+  end function fixed_text
 
   !> Scientific notation with `decimals` digits after the point, left-adjusted (call sites
   !> trim): sci_text(x, 5) is Fortran's es.5 edit ("1.23457E-03"); `exponent_digits` as

@@ -24,6 +24,7 @@ module rd_scene
   use rd_output_set, only: output_set_t
   use rd_output_average, only: output_average_t
   use rd_results_state, only: results_state_t, read_last_state
+  use rd_frame_drift, only: frame_drift_t
   use rd_text, only: int_text, real_text
   use rd_scene_track, only: build_scene_track, build_scene_irregularity
   use rd_track_irregularity, only: track_irregularity_t
@@ -79,6 +80,7 @@ module rd_scene
     integer :: nbodies = 0
     character(len=:), allocatable :: equilibrium
     real(wp) :: equilibrium_residual = 0
+    real(wp), allocatable :: y_as_built(:)   !< the deck's initial state, before the equilibrium
     type(speed_law_t) :: speed
     real(wp) :: t = 0
     real(wp) :: t_end = 0
@@ -93,6 +95,8 @@ module rd_scene
     integer(i8) :: contact_samples = 0
     integer(i8), allocatable :: samples_without_contact(:, :)
     real(wp), allocatable :: max_sampled_q(:, :)
+    !> how far bodies with free x left their track frames (run notes)
+    type(frame_drift_t) :: drift
     real(wp), allocatable :: frame_offsets(:)   !< track frames at sigma_vehicle + offset
     type(output_set_t) :: outputs
     !> &output groups: the channel groups written to the results file (channel_group)
@@ -133,6 +137,7 @@ module rd_scene
     procedure :: set_input => scene_set_input
     procedure :: summary => scene_summary
     procedure :: completion_summary => scene_completion_summary
+    procedure :: check_report => scene_check_report
     procedure :: run_notes => scene_run_notes
     procedure :: warnings => scene_warnings
     procedure :: check_output_path => scene_check_output_path
@@ -148,12 +153,20 @@ module rd_scene
     procedure, private :: write_step
     procedure, private :: write_record
     procedure, private :: check_values
-    procedure, private :: note_contact
+    procedure, private :: note_sample
     procedure, private :: contact_notes
     procedure, private :: register_outputs
     procedure, private :: mbs_element_count
     procedure, private :: channel_written
   end type scene_t
+
+  interface
+    !> What a modeller checks first (raildyn check), after initialize: rd_scene_check_report.
+    module function scene_check_report(self) result(text)
+      class(scene_t), intent(inout) :: self
+      character(len=:), allocatable :: text
+    end function scene_check_report
+  end interface
 
 contains
 
@@ -515,6 +528,7 @@ contains
       call self%integrator%reinit(self%t, self%y, error)
       if (allocated(error)) return
     end if
+    if (self%nbodies > 0) call self%drift%start(self%mbs, self%y)
 
     if (write_output) then
       if (allocated(self%output_override)) then
@@ -633,7 +647,7 @@ contains
         call integrate_to(t_out, min(real(self%output_steps, wp) * self%interval, max(t_target, t_out)))
         if (allocated(error)) return
         call self%refresh_outputs()
-        call self%note_contact()
+        call self%note_sample()
         sample = self%outputs%packed()
         ! a non-finite sub-sample stops the run at its own time (its mean would hide when)
         call self%check_values(sample, error)
@@ -671,7 +685,7 @@ contains
     class(scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: error
     call self%refresh_outputs()
-    call self%note_contact()
+    call self%note_sample()
     call self%write_record(self%outputs%packed(), error)
   end subroutine write_step
 
@@ -698,11 +712,13 @@ contains
     self%output_steps = self%output_steps + 1
   end subroutine write_record
 
-  !> Count the sample just refreshed into the contact statistics (wheels without any
-  !> contact patch, largest vertical wheel force).
-  subroutine note_contact(self)
+  !> Count the sample just refreshed into the run's statistics: bodies' distance from their
+  !> track frames (rd_frame_drift), wheels without any contact patch, largest vertical
+  !> wheel force.
+  subroutine note_sample(self)
     class(scene_t), intent(inout) :: self
     integer :: w, side
+    if (allocated(self%y)) call self%drift%note(self%y)
     if (.not. associated(self%contact)) return
     self%contact_samples = self%contact_samples + 1
     do w = 1, size(self%wheelset_names)
@@ -713,7 +729,7 @@ contains
         end associate
       end do
     end do
-  end subroutine note_contact
+  end subroutine note_sample
 
   !> Error naming the first channel of the packed values that holds a non-finite number.
   subroutine check_values(self, values, error)
@@ -927,6 +943,7 @@ contains
     ! which would start it with a tension k |p2 - p1| instead of relaxed
     call self%mbs%initial_state(self%y, error)
     if (allocated(error)) return
+    self%y_as_built = self%y     ! what the equilibrium moves is reported (check_report)
     ! Bodies in wheel-rail contact: at V = 0 no creep force holds them laterally nor on
     ! their spin, so the static solve holds their lateral position and spin
     ! (rd_static_preload, module header)
@@ -1382,11 +1399,13 @@ contains
              trim(int_text(st%nonlinear_conv_failures)) // ' Newton failures'
     end if
     text = text // self%contact_notes(new_line('a') // 'note: ')
+    if (associated(self%mbs)) text = text // self%drift%notes(self%mbs, new_line('a') // 'warning: ')
   end function scene_completion_summary
 
   !> The run's notes for readers, one per line ('' when there are none): wheels that lost
-  !> contact. A user must know that the results contain flights and impacts (flange bouncing,
-  !> lift-off) before reading means off them; the runner prints them and the results file
+  !> contact, bodies that left their track frames (rd_frame_drift). A user must know that
+  !> the results contain flights and impacts (flange bouncing, lift-off) or a vehicle left
+  !> behind before reading means off them; the runner prints them and the results file
   !> keeps them (/meta attribute 'notes', docs/output.md).
   !> Warnings about legal but suspicious input (one line each, deck line first; empty
   !> before build): raildyn check and run print them.
@@ -1432,6 +1451,7 @@ contains
     class(scene_t), intent(in) :: self
     character(len=:), allocatable :: notes
     notes = self%contact_notes(new_line('a'))
+    if (associated(self%mbs)) notes = notes // self%drift%notes(self%mbs, new_line('a'))
     notes = notes(2:)            ! '' stays ''
   end function scene_run_notes
 
