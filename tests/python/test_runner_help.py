@@ -5,7 +5,8 @@ import subprocess
 
 import pytest
 
-COMMANDS = ["run", "check", "track", "profile-scan", "campaign", "hertz", "creep", "version", "help"]
+COMMANDS = ["run", "check", "track", "profile-scan", "campaign", "export", "hertz", "creep", "version",
+            "help"]
 
 
 def runner(exe, *args, cwd=None):
