@@ -32,7 +32,7 @@ module rd_sweep_smoothness
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   implicit none
   private
-  public :: smoothness_feature_t, find_jumps_and_kinks, FEATURE_JUMP, FEATURE_KINK
+  public :: smoothness_feature_t, find_jumps_and_kinks, FEATURE_JUMP, FEATURE_KINK, window_median
 
   integer, parameter :: FEATURE_JUMP = 1   !< discontinuity of the value
   integer, parameter :: FEATURE_KINK = 2   !< discontinuity of the first derivative

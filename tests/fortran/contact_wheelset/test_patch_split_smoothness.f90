@@ -19,6 +19,7 @@ program test_patch_split_smoothness
   use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_wheelset_contact, only: wheelset_contact_t
+  use rd_sweep_smoothness, only: window_median
   implicit none
   integer, parameter :: n = 800
   real(wp), parameter :: y0 = 6.185e-3_wp, y1 = 6.201e-3_wp, psi = 0.015_wp
@@ -67,7 +68,7 @@ program test_patch_split_smoothness
   print '(a,f10.6,a)', 'third patch from y = ', 1.0e3_wp * (y0 + (y1 - y0) * onset / n), ' mm'
   d2 = creep(:, 2:n) - 2 * creep(:, 1:n - 1) + creep(:, 0:n - 2)
   do k = 1, 2
-    med(k) = median(abs(d2(k, :)))
+    med(k) = window_median(abs(d2(k, :)), 1, n - 1, 0, -1)
     worst(k) = maxval(abs(d2(k, onset - 6:onset + 5)))
     print '(a,i1,a,es11.3,a,es11.3,a,f8.1)', 'creep force component ', k, ': largest |d2| at the onset ', &
       worst(k), ', median ', med(k), ', ratio ', worst(k) / med(k)
@@ -79,23 +80,4 @@ program test_patch_split_smoothness
   if (failures > 0) error stop 1
   print '(a)', 'test_patch_split_smoothness: all checks passed'
 
-contains
-
-  real(wp) function median(x)
-    real(wp), intent(in) :: x(:)
-    real(wp) :: c(size(x)), t
-    integer :: p, q
-    c = x
-    do p = 2, size(c)               ! insertion sort (800 values, once)
-      t = c(p)
-      q = p - 1
-      do while (q >= 1)
-        if (c(q) <= t) exit
-        c(q + 1) = c(q)
-        q = q - 1
-      end do
-      c(q + 1) = t
-    end do
-    median = c((size(c) + 1) / 2)
-  end function median
 end program test_patch_split_smoothness
