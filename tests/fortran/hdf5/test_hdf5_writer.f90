@@ -5,6 +5,7 @@
 !> two writers alive in one process; call-order errors; an empty run.
 !> Reals are compared exactly on purpose: storage must be bit-exact.
 program test_hdf5_writer
+  use test_files, only: delete_file
   use, intrinsic :: iso_c_binding, only: c_char, c_loc, c_ptr
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_positive_inf
   use hdf5
@@ -507,10 +508,4 @@ contains
     int_attr = value
   end function int_attr
 
-  subroutine delete_file(path)
-    character(len=*), intent(in) :: path
-    integer :: unit, iostat
-    open (newunit=unit, file=path, status='old', iostat=iostat)
-    if (iostat == 0) close (unit, status='delete')
-  end subroutine delete_file
 end program test_hdf5_writer

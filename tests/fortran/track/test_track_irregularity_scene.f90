@@ -29,6 +29,7 @@
 !>     error would move the wheelset by 1 mm), both contact points move out by 1 mm (rail point y = +-(e0 + 1 mm)), and the wheelset drops by lam * 1 mm (each
 !>     cone meets its rail 1 mm further out: r = r0 - lam * 1 mm; closed form of the cone).
 program test_track_irregularity_scene
+  use test_files, only: delete_file
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t
   use rd_scene, only: scene_t
@@ -274,10 +275,4 @@ contains
     d = trim(buf)
   end function scratch_dir
 
-  subroutine delete_file(path)
-    character(len=*), intent(in) :: path
-    integer :: unit, ios
-    open (newunit=unit, file=path, status='old', iostat=ios)
-    if (ios == 0) close (unit, status='delete')
-  end subroutine delete_file
 end program test_track_irregularity_scene
