@@ -31,6 +31,8 @@ module rd_scene
   use rd_scene_vehicle, only: build_bodies, build_element, build_external_loads, body_index, &
                               build_wheelset_specs, check_rail_bodies, check_body_inertia, &
                               stiffness_warnings, load_wheelset_profiles
+  use rd_scene_sensors, only: sensor_spec_t, build_sensors
+  use rd_point_motion, only: point_motion_t, compute_point_motion
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_wheelset_contact, only: wheelset_contact_t
   use rd_wheel_contact_result, only: MAX_PATCHES, N_PATCH_CHANNELS, N_WHEEL_CHANNELS, &
@@ -71,6 +73,7 @@ module rd_scene
     type(external_loads_t), pointer :: loads => null()
     type(wheelset_contact_t), pointer :: contact => null()
     character(len=64), allocatable :: wheelset_names(:)
+    type(sensor_spec_t), allocatable :: sensors(:)   !< &sensor points (rd_scene_sensors)
     type(integrator_t), pointer :: integrator => null()
     type(integrator_settings_t) :: solver
     !> Newton-matrix Jacobian of 'bdf' (&solver jacobian): 'coloured' difference quotients
@@ -260,6 +263,10 @@ contains
       self%frame_offsets = 0
     end if
 
+    ! sensors name bodies: without &body the reader has refused any &sensor already
+    call build_sensors(self%deck, self%sensors, error)
+    if (allocated(error)) return
+
     call self%register_outputs()
     self%built = .true.
   end subroutine build_models
@@ -367,6 +374,24 @@ contains
         end associate
       end do
     end if
+    do k = 1, size(self%sensors)
+      associate (p => 'sensors/' // self%sensors(k)%name // '/', &
+                 on => ' of sensor ' // self%sensors(k)%name // ' (fixed to its body)')
+        call self%outputs%add(p // 'position_track', 3, 'm', 'position' // on // &
+          ' relative to its body''s track frame, track components', 'x y z', id)
+        call self%outputs%add(p // 'position_fixed', 3, 'm', 'position' // on // ', fixed frame', 'X Y Z', id)
+        call self%outputs%add(p // 'velocity_track', 3, 'm/s', 'absolute velocity' // on // &
+          ', track-frame components', 'vx vy vz', id)
+        call self%outputs%add(p // 'acceleration_track', 3, 'm/s^2', 'absolute acceleration' // on // &
+          ', track-frame components', 'ax ay az', id)
+        call self%outputs%add(p // 'velocity_body', 3, 'm/s', 'absolute velocity' // on // &
+          ', body-frame components', 'vx vy vz', id)
+        call self%outputs%add(p // 'acceleration_body', 3, 'm/s^2', 'absolute acceleration' // on // &
+          ', body-frame components', 'ax ay az', id)
+        call self%outputs%add(p // 'specific_force_body', 3, 'm/s^2', 'accelerometer reading' // on // &
+          ': acceleration minus gravity, body-frame components', 'fx fy fz', id)
+      end associate
+    end do
     if (associated(self%mbs)) then
       block
         character(len=:), allocatable :: components, units
@@ -831,6 +856,22 @@ contains
           end do
         end block
       end if
+      ! sensors after the contact: their channels were registered before the state's
+      block
+        type(point_motion_t) :: m
+        integer :: s
+        do s = 1, size(self%sensors)
+          m = compute_point_motion(self%mbs%kin(self%sensors(s)%body), self%sensors(s)%position, &
+                                   self%mbs%gravity)
+          self%outputs%channels(j)%values = m%position_track; j = j + 1
+          self%outputs%channels(j)%values = m%position_fixed; j = j + 1
+          self%outputs%channels(j)%values = m%velocity_track; j = j + 1
+          self%outputs%channels(j)%values = m%acceleration_track; j = j + 1
+          self%outputs%channels(j)%values = m%velocity_body; j = j + 1
+          self%outputs%channels(j)%values = m%acceleration_body; j = j + 1
+          self%outputs%channels(j)%values = m%specific_force_body; j = j + 1
+        end do
+      end block
       self%outputs%channels(j)%values = self%y; j = j + 1
     end block
   end subroutine refresh_outputs

@@ -301,9 +301,10 @@ contains
       pstrlist('groups', 'channel groups written to the results file (docs/output.md): vehicle ' // &
                '(speed, distance), track (track frames), bodies, elements, wheelsets (summary, ' // &
                'rail offsets, wheel resultants), patches (contact patch slots), state (integrator ' // &
-               'state, needed by raildyn run --restart); the C API sees every channel', &
-               'vehicle|track|bodies|elements|wheelsets|patches|state', &
-               default='vehicle|track|bodies|elements|wheelsets|patches|state'), &
+               'state, needed by raildyn run --restart), sensors (&sensor points); the C API ' // &
+               'sees every channel', &
+               'vehicle|track|bodies|elements|wheelsets|patches|state|sensors', &
+               default='vehicle|track|bodies|elements|wheelsets|patches|state|sensors'), &
       pstr('progress', 'progress line on the terminal', default='auto', allowed='auto|on|off')])
 
     call add_group(s, 'track', .false., 'track layout and rail geometry', [ &
@@ -468,6 +469,15 @@ contains
       vec3('moment', 'N m', 'moment'), &
       preal('t_start', 's', 'start of the load', default=zero), &
       preal('t_end', 's', 'end of the load', default=huge(1.0_wp), cond='> t_start')])
+
+    p = parray('position', 'm', 'the point in the body frame (x forward, y left, z up, from ' // &
+               'the CG; on a wheelset in its non-spinning axle-box frame)', 3)
+    p%default_kind = DEF_REQUIRED
+    call add_group(s, 'sensor', .true., 'a measurement point on a body: its position, absolute ' // &
+      'velocity and acceleration in the track and body frames (docs/output.md /sensors)', [ &
+      unique_name('unique sensor name (the results group /sensors/<name>)'), &
+      ref_param(pstr('body', 'the body carrying the point', required=.true.), 'body'), &
+      p])
 
     call add_group(s, 'include', .true., 'insert another deck here (its paths relative to it)', [ &
       path_param(pstr('file', 'deck to insert', required=.true.), .true.)])
