@@ -4,6 +4,7 @@
 !>   raildyn check DECK [--json]                          validate a deck (and build the scene)
 !>   raildyn track DECK [-o OUT.h5] [--step DS] [--csv OUT.csv] [--plot OUT.png]
 !>   raildyn profile-scan ...                             wheel-rail contact characteristics
+!>   raildyn eigen DECK [--speed V | --speeds ...] ...    linear modes, root locus
 !>   raildyn export RESULTS.h5 --csv DIR                  one CSV per series (raildyn.export)
 !>   raildyn hertz ... / raildyn creep ...                contact calculators
 !>   raildyn version | help

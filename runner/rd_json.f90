@@ -1,9 +1,12 @@
-!> JSON text for the runner's machine-readable answers (`raildyn check --json`): strings
-!> escaped as RFC 8259 requires, so that any path or message reads back unchanged.
+!> JSON text for the runner's machine-readable answers (`raildyn check --json`, `raildyn
+!> eigen --json`): strings escaped as RFC 8259 requires, so that any path or message reads
+!> back unchanged; numbers with 17 significant digits, so that they read back exactly.
 module rd_json
+  use rd_kinds, only: wp
+  use rd_text, only: sci_text
   implicit none
   private
-  public :: json_string
+  public :: json_string, json_real
 
 contains
 
@@ -29,4 +32,15 @@ contains
     end do
     json = json // '"'
   end function json_string
+
+  !> `x` as a JSON number (17 significant digits); null when not finite (JSON has no NaN).
+  pure function json_real(x) result(json)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: json
+    if (x /= x .or. abs(x) > huge(x)) then
+      json = 'null'
+    else
+      json = trim(sci_text(x, 16, 3))
+    end if
+  end function json_real
 end module rd_json

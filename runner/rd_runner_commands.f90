@@ -13,6 +13,8 @@ module rd_runner_commands
   use rd_track_export, only: export_track
   use rd_build_info, only: python_command, shell_quote
   use rd_json, only: json_string
+  use rd_runner_scene, only: start_scene
+  use rd_cmd_eigen, only: run_eigen_command, eigen_usage
   use rd_deck, only: deck_string_t
   use rd_text, only: int_text
   implicit none
@@ -28,7 +30,7 @@ module rd_runner_commands
 
   character(len=*), parameter :: usage = &
     'usage: raildyn run DECK [-o OUT.h5] [--restart RESULTS.h5] [--progress|--quiet] | check DECK [--json] | ' // &
-    'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | ' // &
+    'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | eigen DECK ... | ' // &
     'campaign run|summary|decks CAMPAIGN.toml | export RESULTS.h5 --csv DIR | hertz ... | creep ... | ' // &
     'version | help [COMMAND]' // &
     new_line('a') // '(raildyn COMMAND --help: the options of one command)'
@@ -70,6 +72,8 @@ contains
       call command_track(args(2:), status)
     case ('profile-scan')
       call run_profile_scan_command(args(2:), status)
+    case ('eigen')
+      call run_eigen_command(args(2:), status)
     case ('campaign')
       call command_python('raildyn.campaign', args(2:), status)
     case ('export')
@@ -120,6 +124,7 @@ contains
     case ('check'); text = check_usage
     case ('track'); text = track_usage
     case ('profile-scan'); text = profile_scan_usage
+    case ('eigen'); text = eigen_usage
     case ('campaign'); text = 'usage: raildyn campaign run|summary|decks CAMPAIGN.toml [options] ' // &
                               '(raildyn campaign --help: the options)'
     case ('export'); text = export_usage
@@ -253,34 +258,6 @@ contains
     end do
     write (output_unit, '(a)') text // ']}'
   end subroutine print_check_json
-
-  !> Everything run does before its first step (read, build, results path, initial state,
-  !> static equilibrium, integrator set-up); check does the same without writing, so that
-  !> check and run agree. Warnings go to stderr, one line each; the caller reports `error`.
-  subroutine start_scene(scene, deck, output, write_output, error, restart)
-    type(scene_t), intent(inout) :: scene
-    character(len=*), intent(in) :: deck, output
-    logical, intent(in) :: write_output
-    type(error_t), allocatable, intent(out) :: error
-    character(len=*), intent(in), optional :: restart   !< results file to continue ('' none)
-    type(deck_string_t), allocatable :: warnings(:)
-    integer :: i
-    call scene%load_file(deck, error)
-    if (.not. allocated(error) .and. len(output) > 0) call scene%set_output_file(output)
-    if (.not. allocated(error)) call scene%build(error)
-    if (allocated(error)) return
-    ! printed before initialize: a failed initialize resets the scene to its deck
-    warnings = scene%warnings()
-    do i = 1, size(warnings)
-      write (error_unit, '(2a)') 'raildyn: warning: ', warnings(i)%s
-    end do
-    if (present(restart)) then
-      if (len(restart) > 0) call scene%continue_from(restart, error)
-      if (allocated(error)) return
-    end if
-    call scene%check_output_path(error)
-    if (.not. allocated(error)) call scene%initialize(write_output, error)
-  end subroutine start_scene
 
   subroutine command_run(args, status)
     character(len=*), intent(in) :: args(:)

@@ -104,6 +104,7 @@ def load_library(path: str | None = None) -> ctypes.CDLL:
         "rd_get_state": (c_int, [h, _c_double_p, c_int]),
         "rd_set_state": (c_int, [h, _c_double_p, c_int]),
         "rd_set_start": (c_int, [h, c_double, _c_double_p, c_int]),
+        "rd_linearize": (c_int, [h, _c_double_p, c_int]),
         "rd_output_count": (c_int, [h, ctypes.POINTER(c_int)]),
         "rd_output_name": (c_int, [h, c_int, ctypes.c_char_p, c_int]),
         "rd_output_size": (c_int, [h, c_char_p, ctypes.POINTER(c_int)]),
@@ -228,6 +229,19 @@ class Model:
         array = np.ascontiguousarray(np.asarray(state, dtype=np.float64).ravel())
         self._check(self._lib.rd_set_start(self.handle, float(time),
                                            array.ctypes.data_as(_c_double_p), array.size))
+
+    def linearize(self) -> np.ndarray:
+        """The linearised system matrix A = df/dy of y' = f(t, y) about the current time and
+        state, at the running speed in force (``set_input("speed", V)`` changes it), as an
+        (n, n) array; rows and columns in the layout of ``state()`` (docs/output.md,
+        /state/y). Its eigenvalues are the modes of ``raildyn eigen``
+        (docs/theory_stability.md). After initialize."""
+        size = ctypes.c_int()
+        self._check(self._lib.rd_get_state_size(self.handle, ctypes.byref(size)))
+        n = size.value
+        matrix = np.zeros(n * n, dtype=np.float64)
+        self._check(self._lib.rd_linearize(self.handle, matrix.ctypes.data_as(_c_double_p), n * n))
+        return matrix.reshape(n, n)
 
     # -- outputs and inputs ---------------------------------------------------------
     def output_names(self) -> list[str]:

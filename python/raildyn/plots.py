@@ -2,10 +2,12 @@
 
     python -m raildyn.plots track    track.h5  track.png      # alignment from `raildyn track`
     python -m raildyn.plots channels run.h5    run.png  [CHANNEL ...]
+    python -m raildyn.plots root-locus locus.csv locus.png   # from `raildyn eigen --csv`
 
 ``track``: plan view (Y over X, equal axes, from the series ``track/position``) and every
 other ``track/...`` series over the file's axis (sigma). ``channels``: the given series or
-'path:component' columns (default all) over the axis, one panel each.
+'path:component' columns (default all) over the axis, one panel each. ``root-locus``: the
+damping ratio and the frequency of every mode against the speed (neutral modes left out).
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from typing import Iterable
 
 from .results import Results
 
-__all__ = ["plot_channels", "plot_track", "main"]
+__all__ = ["plot_channels", "plot_track", "plot_root_locus", "main"]
 
 _MAX_PANELS = 24
 
@@ -137,6 +139,36 @@ def plot_profile_scan(path: str | os.PathLike, out: str | os.PathLike) -> str:
     return os.fspath(out)
 
 
+def plot_root_locus(path: str | os.PathLike, out: str | os.PathLike) -> str:
+    """The root locus of ``raildyn eigen --speeds ... --csv``: damping ratio and frequency of
+    every mode against the running speed, one point per mode and speed; the least-damped
+    mode of each speed is marked, and zero damping (the stability limit) drawn."""
+    from .stability import read_root_locus
+    plt = _pyplot()
+    locus = read_root_locus(path)
+    fig, (a_zeta, a_freq) = plt.subplots(2, 1, figsize=(8, 8), sharex=True)
+    for speed, modes in locus.items():
+        modes = [m for m in modes if not m.neutral]
+        if not modes:
+            continue
+        a_zeta.plot([speed] * len(modes), [m.damping_ratio for m in modes], "k.", ms=4)
+        a_freq.plot([speed] * len(modes), [m.frequency_hz for m in modes], "k.", ms=4)
+        least = min(modes, key=lambda m: m.damping_ratio)
+        a_zeta.plot([speed], [least.damping_ratio], "ro", ms=5, mfc="none")
+        a_freq.plot([speed], [least.frequency_hz], "ro", ms=5, mfc="none")
+    a_zeta.axhline(0.0, color="r", lw=0.8)
+    a_zeta.set_ylabel("damping ratio [-]")
+    a_freq.set_ylabel("frequency [Hz]")
+    a_freq.set_xlabel("speed [m/s]")
+    for ax in (a_zeta, a_freq):
+        ax.grid(True, alpha=0.3)
+    fig.suptitle("root locus (red: least-damped mode at each speed)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=90)
+    plt.close(fig)
+    return os.fspath(out)
+
+
 def main(argv: list[str] | None = None) -> int:
     import argparse
     parser = argparse.ArgumentParser(prog="python -m raildyn.plots",
@@ -148,6 +180,9 @@ def main(argv: list[str] | None = None) -> int:
     p_scan = sub.add_parser("profile-scan", help="contact table (from `raildyn profile-scan --h5`)")
     p_scan.add_argument("file")
     p_scan.add_argument("out")
+    p_locus = sub.add_parser("root-locus", help="modes against speed (from `raildyn eigen --csv`)")
+    p_locus.add_argument("file")
+    p_locus.add_argument("out")
     p_chan = sub.add_parser("channels", help="series over the file's axis")
     p_chan.add_argument("file")
     p_chan.add_argument("out")
@@ -158,6 +193,8 @@ def main(argv: list[str] | None = None) -> int:
             written = plot_track(args.file, args.out)
         elif args.command == "profile-scan":
             written = plot_profile_scan(args.file, args.out)
+        elif args.command == "root-locus":
+            written = plot_root_locus(args.file, args.out)
         else:
             written = plot_channels(args.file, args.out, args.channels or None)
     except (OSError, ValueError, KeyError) as exc:

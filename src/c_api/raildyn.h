@@ -84,6 +84,16 @@ int rd_set_state(rd_handle handle, const double *state, int size);
  * rd_initialize. */
 int rd_set_start(rd_handle handle, double time, const double *state, int size);
 
+/* The linearised equations of motion about the current time and state: the n x n matrix
+ * A = df/dy of the state equation y' = f(t, y), n = rd_get_state_size(), rows and columns
+ * in the layout of the state (docs/output.md, /state/y), by central differences of the
+ * right-hand side (docs/theory_stability.md), at the running speed in force (the deck's
+ * law or rd_set_input "speed"). Row-major: matrix[i * n + j] = d f_i / d y_j (0-based).
+ * size must be n * n: otherwise RD_ERR_INPUT and nothing is written. After rd_initialize
+ * (RD_ERR_HANDLE before); the model's time and state do not change. Its eigenvalues are the
+ * modes `raildyn eigen` reports. */
+int rd_linearize(rd_handle handle, double *matrix, int size);
+
 /* Named outputs at the current time: count, names, sizes, values (the state at that time,
  * also when the results file holds interval means, &output mean_samples). */
 int rd_output_count(rd_handle handle, int *count);

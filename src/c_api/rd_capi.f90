@@ -12,6 +12,7 @@ module rd_capi
   use rd_error, only: error_t, RD_OK, RD_ERR_INPUT, RD_ERR_HANDLE
   use rd_scene, only: raildyn_version
   use rd_text, only: int_text
+  use rd_scene_linearization, only: linearize_scene
   use rd_capi_registry, only: capi_model_t, register_model, find_model, forget_model, &
                               handle_problem
   implicit none
@@ -114,7 +115,8 @@ contains
 
   !> The model and the state array of a call (handle, state, n): status RD_OK, or the
   !> refusal (unknown handle, NULL array, negative size), recorded on the handle.
-  subroutine state_call(handle, state, n, call_name, model, values, status)
+  !> `array_name`: the array's name in raildyn.h (default 'state').
+  subroutine state_call(handle, state, n, call_name, model, values, status, array_name)
     integer(c_int64_t), intent(in) :: handle
     type(c_ptr), intent(in) :: state
     integer(c_int), intent(in) :: n
@@ -122,11 +124,16 @@ contains
     type(capi_model_t), pointer, intent(out) :: model
     real(c_double), pointer, intent(out) :: values(:)
     integer(c_int), intent(out) :: status
+    character(len=*), intent(in), optional :: array_name
     character(len=:), allocatable :: problem
     values => no_values
     call lookup(handle, model, status)
     if (status /= RD_OK) return
-    call c_doubles(state, n, 'state', values, problem)
+    if (present(array_name)) then
+      call c_doubles(state, n, array_name, values, problem)
+    else
+      call c_doubles(state, n, 'state', values, problem)
+    end if
     if (len(problem) > 0) status = refuse(model, call_name, problem)
   end subroutine state_call
 
@@ -296,6 +303,32 @@ contains
     call model%scene%set_start(time, values, error)
     status = conclude(model, error)
   end function rd_set_start
+
+  !> The linearised system matrix, row-major n x n (raildyn.h).
+  function rd_linearize(handle, matrix, n) result(status) bind(C, name='rd_linearize')
+    integer(c_int64_t), value :: handle
+    type(c_ptr), value :: matrix
+    integer(c_int), value :: n
+    integer(c_int) :: status
+    type(capi_model_t), pointer :: model
+    type(error_t), allocatable :: error
+    real(c_double), pointer :: values(:)
+    real(wp), allocatable :: a(:, :)
+    integer :: states
+    call state_call(handle, matrix, n, 'rd_linearize', model, values, status, 'matrix')
+    if (status /= RD_OK) return
+    states = model%scene%state_size()
+    if (states > 0 .and. n /= states * states) then
+      status = refuse(model, 'rd_linearize', 'size is ' // trim(int_text(n)) // '; expected the state size ' // &
+                      'squared, ' // trim(int_text(states)) // ' x ' // trim(int_text(states)) // ' = ' // &
+                      trim(int_text(states * states)))
+      return
+    end if
+    call linearize_scene(model%scene, a, error)
+    status = conclude(model, error)
+    ! Fortran stores a(i, j) column by column: its transpose's columns are a's rows
+    if (status == RD_OK) values = reshape(transpose(a), [n])
+  end function rd_linearize
 
   function rd_output_count(handle, count) result(status) bind(C, name='rd_output_count')
     integer(c_int64_t), value :: handle

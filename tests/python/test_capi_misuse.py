@@ -189,6 +189,7 @@ def test_null_arguments_return_a_status(tmp_path):
             'set_input_name': lambda: lib.rd_set_input(h, None, None, 0),
             'set_input_values': lambda: lib.rd_set_input(h, b'speed', None, 1),
             'get_state_negative': lambda: lib.rd_get_state(h, None, -1),
+            'linearize_matrix': lambda: lib.rd_linearize(h, None, 4),
             'run_notes': lambda: lib.rd_run_notes(h, None, 64),
         }
         for name, call in calls.items():
@@ -206,7 +207,8 @@ def test_null_arguments_return_a_status(tmp_path):
              "get_state_size": "size", "output_count": "count", "output_name": "name",
              "output_name_len": "name_len", "output_size_name": "name", "output_size_size": "size",
              "get_output_name": "name", "get_output_values": "values", "set_input_name": "name",
-             "set_input_values": "values", "get_state_negative": "size", "run_notes": "notes"}
+             "set_input_values": "values", "get_state_negative": "size", "run_notes": "notes",
+             "linearize_matrix": "matrix"}
     for name, word in words.items():
         status, message = result[name]
         assert status == RD_ERR_INPUT, (name, result[name])

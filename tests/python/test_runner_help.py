@@ -5,7 +5,7 @@ import subprocess
 
 import pytest
 
-COMMANDS = ["run", "check", "track", "profile-scan", "campaign", "export", "hertz", "creep", "version",
+COMMANDS = ["run", "check", "track", "profile-scan", "eigen", "campaign", "export", "hertz", "creep", "version",
             "help"]
 
 

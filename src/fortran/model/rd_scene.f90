@@ -23,7 +23,7 @@ module rd_scene
   use rd_hdf5_writer, only: h5_writer_t
   use rd_output_set, only: output_set_t
   use rd_output_average, only: output_average_t
-  use rd_results_state, only: results_state_t, read_last_state
+  use rd_results_state, only: results_state_t, read_state_row
   use rd_frame_drift, only: frame_drift_t
   use rd_text, only: int_text, real_text
   use rd_scene_track, only: build_scene_track, build_scene_irregularity
@@ -54,7 +54,7 @@ module rd_scene
   use rd_series_spring_damper, only: series_spring_damper_t
   implicit none
   private
-  public :: scene_t, raildyn_version
+  public :: scene_t, raildyn_version, state_layout
 
   character(len=*), parameter :: raildyn_version = '0.1.0'
 
@@ -127,6 +127,7 @@ module rd_scene
     procedure :: time => scene_time
     procedure :: end_time => scene_end_time
     procedure :: output_interval => scene_output_interval
+    procedure :: running_speed => scene_running_speed
     procedure :: progress_wanted => scene_progress_wanted
     procedure :: state_size => scene_state_size
     procedure :: get_state => scene_get_state
@@ -1165,6 +1166,12 @@ contains
     scene_output_interval = self%interval
   end function scene_output_interval
 
+  !> The running speed V [m/s] at the current time (the deck's law, or set_input's).
+  pure real(wp) function scene_running_speed(self)
+    class(scene_t), intent(in) :: self
+    scene_running_speed = self%speed%speed(self%t)
+  end function scene_running_speed
+
   logical function scene_progress_wanted(self)
     class(scene_t), intent(in) :: self
     character(len=:), allocatable :: mode
@@ -1235,19 +1242,22 @@ contains
     self%start_state = y
   end subroutine scene_set_start
 
-  !> A restart from the last complete row of a results file's /state/y (rd_results_state):
-  !> the deck must describe the same state (the column names, i.e. bodies, their free
-  !> coordinates and the elements' states, must agree) and the file's rows must be states,
-  !> not interval means.
-  subroutine scene_continue_from(self, path, error)
+  !> A restart from the last complete row of a results file's /state/y (rd_results_state),
+  !> or from row `row` (counted from 0; raildyn eigen --state FILE:ROW): the deck must
+  !> describe the same state (the column names, i.e. bodies, their free coordinates and the
+  !> elements' states, must agree) and the file's rows must be states, not interval means.
+  subroutine scene_continue_from(self, path, error, row)
     class(scene_t), intent(inout) :: self
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(out) :: error
+    integer, intent(in), optional :: row
     type(results_state_t) :: saved
-    integer :: id
+    integer :: id, row_wanted
     call self%build(error)
     if (allocated(error)) return
-    call read_last_state(path, saved, error)
+    row_wanted = -1
+    if (present(row)) row_wanted = row
+    call read_state_row(path, row_wanted, saved, error)
     if (allocated(error)) return
     if (saved%mean_samples > 0) then
       call make_error(error, RD_ERR_INPUT, '"' // path // '": its rows are interval means ' // &

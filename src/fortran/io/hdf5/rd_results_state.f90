@@ -1,5 +1,6 @@
-!> The last state a results file holds (docs/output.md, `/state/y`): where a restarted run
-!> continues (raildyn run --restart, rd_scene set_start).
+!> A state a results file holds (docs/output.md, `/state/y`): where a restarted run
+!> continues (raildyn run --restart, rd_scene set_start), or the state `raildyn eigen
+!> --state FILE[:ROW]` linearises about.
 !>
 !> The last row counts whose time and state are both finite: a killed run's file may end
 !> in rows the crash left unwritten (fill value NaN, rd_hdf5_writer), and such a file is
@@ -10,9 +11,10 @@ module rd_results_state
   use hdf5
   use rd_kinds, only: wp, i8
   use rd_error, only: error_t, make_error, RD_ERR_IO, RD_ERR_INPUT
+  use rd_text, only: int_text
   implicit none
   private
-  public :: results_state_t, read_last_state
+  public :: results_state_t, read_last_state, read_state_row
 
   !> H5F_ACC_SWMR_READ of H5Fpublic.h (0x0040): the Fortran API of HDF5 1.10 has no
   !> constant for it and hands the access flags to H5Fopen unchanged.
@@ -27,8 +29,19 @@ module rd_results_state
 
 contains
 
+  !> The last complete row (a restart).
   subroutine read_last_state(path, state, error)
     character(len=*), intent(in) :: path
+    type(results_state_t), intent(out) :: state
+    type(error_t), allocatable, intent(out) :: error
+    call read_state_row(path, -1, state, error)
+  end subroutine read_last_state
+
+  !> Row `row` of /time and /state/y, counted from 0 as h5py and numpy count them; -1: the
+  !> last complete row. A row outside the file or with a non-finite value is an error.
+  subroutine read_state_row(path, row_wanted, state, error)
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: row_wanted
     type(results_state_t), intent(out) :: state
     type(error_t), allocatable, intent(out) :: error
     integer(hid_t) :: file, fapl
@@ -38,6 +51,13 @@ contains
     integer :: row
     logical :: exists
 
+    ! HDF5 1.10 answers an absent file here with a file handle whose queries say 'no such
+    ! dataset': ask the file system first
+    inquire (file=path, exist=exists)
+    if (.not. exists) then
+      call make_error(error, RD_ERR_IO, '"' // path // '": no such file; expected a raildyn results file (.h5)')
+      return
+    end if
     call h5open_f(hdferr)
     call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, hdferr)
     call h5eset_auto_f(0, hdferr)
@@ -54,7 +74,7 @@ contains
     call h5lexists_f(file, 'state', exists, hdferr)
     if (exists) call h5lexists_f(file, 'state/y', exists, hdferr)
     if (.not. exists) then
-      call make_error(error, RD_ERR_INPUT, '"' // path // '": no /state/y series (written when ' // &
+      call make_error(error, RD_ERR_INPUT, 'no /state/y series (written when ' // &
                       "&output groups includes 'state', the default); a run cannot continue from it")
     end if
     if (.not. allocated(error)) call read_table(file, 'time', time, time_name, error)
@@ -67,16 +87,30 @@ contains
       return
     end if
 
-    do row = min(size(time, 2), size(y, 2)), 1, -1
-      if (ieee_is_finite(time(1, row)) .and. all(ieee_is_finite(y(:, row)))) exit
-    end do
-    if (row < 1) then
-      call make_error(error, RD_ERR_INPUT, '"' // path // '": no complete row in /state/y')
-      return
+    if (row_wanted >= 0) then
+      row = row_wanted + 1
+      if (row > min(size(time, 2), size(y, 2))) then
+        call make_error(error, RD_ERR_INPUT, '"' // path // '": no row ' // trim(int_text(row_wanted)) // &
+          ' in /state/y; expected a row from 0 to ' // trim(int_text(min(size(time, 2), size(y, 2)) - 1)))
+        return
+      end if
+      if (.not. (ieee_is_finite(time(1, row)) .and. all(ieee_is_finite(y(:, row))))) then
+        call make_error(error, RD_ERR_INPUT, '"' // path // '": row ' // trim(int_text(row_wanted)) // &
+          ' of /state/y is incomplete (values not finite: a killed run did not write it)')
+        return
+      end if
+    else
+      do row = min(size(time, 2), size(y, 2)), 1, -1
+        if (ieee_is_finite(time(1, row)) .and. all(ieee_is_finite(y(:, row)))) exit
+      end do
+      if (row < 1) then
+        call make_error(error, RD_ERR_INPUT, '"' // path // '": no complete row in /state/y')
+        return
+      end if
     end if
     state%time = time(1, row)
     state%y = y(:, row)
-  end subroutine read_last_state
+  end subroutine read_state_row
 
   !> A float64 dataset of rank 1 (n values, read as (1, n)) or 2 (h5py's rows x columns,
   !> (columns, rows) here), whole, and its 'components' attribute.
