@@ -6,6 +6,7 @@
 !>   raildyn profile-scan ...                             wheel-rail contact characteristics
 !>   raildyn eigen DECK [--speed V | --speeds ...] ...    linear modes, root locus
 !>   raildyn export RESULTS.h5 --csv DIR                  one CSV per series (raildyn.export)
+!>   raildyn assess RESULTS.h5 [--json] [--csv DIR] [--html DIR]   EN 14363 / EN 12299 (raildyn.assess)
 !>   raildyn hertz ... / raildyn creep ...                contact calculators
 !>   raildyn version | help
 !>

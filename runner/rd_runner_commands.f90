@@ -31,7 +31,8 @@ module rd_runner_commands
   character(len=*), parameter :: usage = &
     'usage: raildyn run DECK [-o OUT.h5] [--restart RESULTS.h5] [--progress|--quiet] | check DECK [--json] | ' // &
     'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | eigen DECK ... | ' // &
-    'campaign run|summary|decks CAMPAIGN.toml | export RESULTS.h5 --csv DIR | hertz ... | creep ... | ' // &
+    'campaign run|summary|decks CAMPAIGN.toml | export RESULTS.h5 --csv DIR | ' // &
+    'assess RESULTS.h5 [--json] [--csv DIR] [--html DIR] | hertz ... | creep ... | ' // &
     'version | help [COMMAND]' // &
     new_line('a') // '(raildyn COMMAND --help: the options of one command)'
   ! One usage line per command, printed by `raildyn COMMAND --help` (or -h) and `raildyn help
@@ -43,6 +44,9 @@ module rd_runner_commands
   character(len=*), parameter :: track_usage = &
     'usage: raildyn track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE]'
   character(len=*), parameter :: export_usage = 'usage: raildyn export RESULTS.h5 --csv DIR'
+  character(len=*), parameter :: assess_usage = &
+    'usage: raildyn assess RESULTS.h5 [--json] [--csv DIR] [--html DIR] [--prudhomme-alpha ALPHA] ' // &
+    '[--instability-frequency HZ]'
   character(len=*), parameter :: version_usage = 'usage: raildyn version'
   character(len=*), parameter :: help_usage = 'usage: raildyn help [COMMAND]'
 
@@ -78,6 +82,8 @@ contains
       call command_python('raildyn.campaign', args(2:), status)
     case ('export')
       call command_python('raildyn.export', args(2:), status)
+    case ('assess')
+      call command_python('raildyn.assess', args(2:), status)
     case ('hertz')
       call run_hertz_command(args(2:), status)
     case ('creep')
@@ -128,6 +134,7 @@ contains
     case ('campaign'); text = 'usage: raildyn campaign run|summary|decks CAMPAIGN.toml [options] ' // &
                               '(raildyn campaign --help: the options)'
     case ('export'); text = export_usage
+    case ('assess'); text = assess_usage
     case ('hertz'); text = hertz_usage
     case ('creep'); text = creep_usage
     case ('version', '--version'); text = version_usage
@@ -362,8 +369,9 @@ contains
     status = 0
   end subroutine command_track
   !> Commands driven by the Python package: parametric campaigns (raildyn.campaign runs this
-  !> executable once per parameter set, locally or as a Slurm job array) and the CSV export
-  !> of a results file (raildyn.export, h5py). The module's exit status is the command's.
+  !> executable once per parameter set, locally or as a Slurm job array), the CSV export
+  !> of a results file (raildyn.export, h5py) and the assessment of a results file against
+  !> EN 14363 / EN 12299 (raildyn.assess). The module's exit status is the command's.
   subroutine command_python(module, args, status)
     character(len=*), intent(in) :: module
     character(len=*), intent(in) :: args(:)

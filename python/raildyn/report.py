@@ -23,9 +23,11 @@ def _pyplot():
 
 
 def figure_png(title: str, series: list, ylabel: str, scale: float = 1.0,
-               window: tuple[float, float] | None = None, bands: list = ()) -> bytes:
-    """PNG of time histories: series = [(label, t, y)], y multiplied by ``scale``; an optional
-    shaded evaluation window and tolerance bands [(label, t, lower, upper)]."""
+               window: tuple[float, float] | None = None, bands: list = (),
+               xlabel: str = "time [s]") -> bytes:
+    """PNG of histories: series = [(label, t, y)], y multiplied by ``scale``; an optional
+    shaded evaluation window and tolerance bands [(label, t, lower, upper)]; the abscissa is
+    time unless ``xlabel`` says otherwise (e.g. track position)."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(8.0, 3.6), dpi=90)
     try:
@@ -36,7 +38,7 @@ def figure_png(title: str, series: list, ylabel: str, scale: float = 1.0,
         if window is not None:
             ax.axvspan(window[0], window[1], color="0.85", zorder=0, label="evaluation window")
         ax.set_title(title, fontsize=10)
-        ax.set_xlabel("time [s]")
+        ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
         ax.grid(True, lw=0.3)
         if series or bands:

@@ -1,0 +1,96 @@
+"""The assessment of one results file: every quantity of EN 14363 (running safety, track
+loading), EN 12299 (ride comfort) and the wear indices that the file allows, each with its
+limit and margin, or with the reason it is not available."""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..results import Results
+from .comfort import comfort_quantities
+from .filters import butterworth_lowpass_gain, magnitude_filter
+from .layout import LayoutError, read_sensors, read_wheelsets
+from .quantity import Quantity, not_available
+from .running_safety import running_safety
+from .track_loading import track_loading
+from .wear import wear_quantities
+
+__all__ = ["Assessment", "assess", "FORCE_CUTOFF"]
+
+FORCE_CUTOFF = 20.0    #: Hz, low pass of the wheel forces (EN 14363, secondary source)
+
+
+@dataclass
+class Assessment:
+    results_path: str
+    status: str
+    title: str
+    quantities: list[Quantity] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+
+    def to_json(self) -> dict:
+        return {"results": self.results_path, "status": self.status, "title": self.title,
+                "quantities": [q.to_json() for q in self.quantities], "notes": list(self.notes)}
+
+    def find(self, name: str, **where) -> list[Quantity]:
+        """The quantities called ``name`` whose attributes equal ``where`` (wheelset=..., ...)."""
+        return [q for q in self.quantities if q.name == name
+                and all(getattr(q, k) == v for k, v in where.items())]
+
+
+def _lowpass_for(t: np.ndarray, notes: list[str]):
+    if t.size < 2:
+        return lambda y: np.asarray(y, float)
+    fs = 1.0 / float(np.median(np.diff(t)))
+    if fs <= 2 * FORCE_CUTOFF:
+        notes.append(f"output rate {fs:.3g} Hz: nothing above the {FORCE_CUTOFF:g} Hz force filter "
+                     "is resolved, forces used as written")
+        return lambda y: np.asarray(y, float)
+    notes.append(f"wheel forces low-pass filtered at {FORCE_CUTOFF:g} Hz (4th-order Butterworth "
+                 "magnitude, zero phase)")
+    return lambda y: magnitude_filter(y, fs, lambda f: butterworth_lowpass_gain(f, FORCE_CUTOFF))
+
+
+def assess(path: str | os.PathLike, prudhomme_alpha: float = 1.0,
+           instability_frequency: float | None = None) -> Assessment:
+    """Assess the results file ``path`` (docs/assessment.md)."""
+    with Results(path) as r:
+        meta = r.metadata
+        a = Assessment(os.fspath(path), str(meta.get("status", "unknown")), str(meta.get("title", "")))
+        if a.status != "completed":
+            a.notes.append(f"run status '{a.status}': the quantities cover the rows written")
+        if meta.get("output_mean_samples"):
+            a.notes.append("rows are interval means (output_mean_samples > 0): peaks shorter "
+                           "than the output interval are averaged")
+        t = np.asarray(r.time, float)
+        lowpass = _lowpass_for(t, a.notes)
+        speed = np.asarray(r.get("vehicle/speed:V"), float) if "vehicle/speed" in r else np.zeros(0)
+        try:
+            wheelsets = read_wheelsets(r)
+        except LayoutError as e:
+            wheelsets = []
+            a.quantities.append(not_available("Y/Q", "1", str(e)))
+        if not wheelsets and not a.quantities:
+            a.quantities.append(not_available(
+                "Y/Q", "1", "the file has no wheelsets/ series: no wheel-rail contact written"))
+        for ws in wheelsets:
+            a.notes.append(f"wheelset {ws.name}: track position = {ws.position_note}")
+            a.quantities += running_safety(ws, t, lowpass, prudhomme_alpha, instability_frequency)
+            a.quantities += track_loading(ws, speed, lowpass)
+            a.quantities += wear_quantities(ws)
+        sensors = read_sensors(r)
+        if not sensors:
+            reason = "the file has no sensors/<name>/acceleration series (no sensors in the deck)"
+            a.quantities.append(not_available("N_MV", "1", reason))
+            a.quantities.append(not_available("Cc", "m/s^2", reason))
+        distance = np.asarray(r.get("vehicle/distance:sigma"), float) if "vehicle/distance" in r else None
+
+        def position_at(time):
+            return float("nan") if distance is None else float(np.interp(time, t, distance))
+        for sensor in sensors:
+            a.notes.append(f"sensor {sensor.name}: accelerations from {sensor.series}")
+            a.quantities += comfort_quantities(sensor.name, t, sensor.acceleration, position_at)
+    return a
