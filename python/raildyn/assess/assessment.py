@@ -45,7 +45,7 @@ def _lowpass_for(t: np.ndarray, notes: list[str]):
     if t.size < 2:
         return lambda y: np.asarray(y, float)
     fs = 1.0 / float(np.median(np.diff(t)))
-    if fs <= 2 * FORCE_CUTOFF:
+    if fs <= 2 * FORCE_CUTOFF * (1 + 1e-9):      # 40 Hz output: Nyquist at the cut-off
         notes.append(f"output rate {fs:.3g} Hz: nothing above the {FORCE_CUTOFF:g} Hz force filter "
                      "is resolved, forces used as written")
         return lambda y: np.asarray(y, float)

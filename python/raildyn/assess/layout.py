@@ -31,24 +31,27 @@ class LayoutError(ValueError):
     """The file lacks what a group of quantities needs; the message is the reason."""
 
 
-def _strip_comment(line: str) -> str:
+def _first_outside_quotes(text: str, chars: str, start: int = 0) -> int:
+    """Index of the first character of ``chars`` at or after ``start`` that is not inside a
+    quoted string; len(text) when there is none."""
     quote = None
-    for i, ch in enumerate(line):
+    for i in range(start, len(text)):
+        ch = text[i]
         if quote:
             if ch == quote:
                 quote = None
         elif ch in "'\"":
             quote = ch
-        elif ch == "!":
-            return line[:i]
-    return line
+        elif ch in chars:
+            return i
+    return len(text)
 
 
 def deck_groups(text: str) -> list[tuple[str, dict[str, str]]]:
     """The namelist groups of a deck text as (group name, {parameter: raw value text}), in
     order; quotes are kept off string values. Enough for names and numbers; the Fortran deck
     reader remains the authority on what a deck means."""
-    body = "\n".join(_strip_comment(line) for line in text.splitlines())
+    body = "\n".join(line[:_first_outside_quotes(line, "!")] for line in text.splitlines())
     groups: list[tuple[str, dict[str, str]]] = []
     i, n = 0, len(body)
     while i < n:
@@ -59,18 +62,7 @@ def deck_groups(text: str) -> list[tuple[str, dict[str, str]]]:
         if not m:
             i = start + 1
             continue
-        # the group ends at the first '/' outside quotes
-        j, quote = start + m.end(), None
-        while j < n:
-            ch = body[j]
-            if quote:
-                if ch == quote:
-                    quote = None
-            elif ch in "'\"":
-                quote = ch
-            elif ch == "/":
-                break
-            j += 1
+        j = _first_outside_quotes(body, "/", start + m.end())     # the group ends at '/'
         content = body[start + m.end():j]
         params: dict[str, str] = {}
         names = list(re.finditer(r"(?:^|,|\s)(\w+)\s*=", content))
