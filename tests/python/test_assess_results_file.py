@@ -23,7 +23,8 @@ to 300 m and a 500 m curve beyond. The wheel columns are set independently of ea
   352.01 m): T gamma 14 N, 62 N at the peak; patch 2 (flange) only in the curve: Fy = -5000 N
   at eta = 0.01, T gamma 50 N. Wheel: 112 N and RCF index f(62) + f(50) = 0.94 + 0.7 at
   352.01 m. The right wheel's slots stay empty.
-- sensor 'floor': lateral acceleration 0.5 sin(2 pi t): Cc_y = 0.5 |Wd(1 Hz)| / sqrt(2) (its
+- sensor 'floor' (specific_force_body, as an accelerometer reads it): lateral 0.5 sin(2 pi t),
+  vertical +g: Cc_z = 0, Cc_y = 0.5 |Wd(1 Hz)| / sqrt(2) (its
   largest value includes the filter's switch-on transient, +0.9 %); N_MV needs 5 min: not
   available.
 """
@@ -98,8 +99,9 @@ def write_scene(make_results_file, name="scene.h5", with_sensor=True, rows=1601)
         "wheelsets/w1/right/patch2": (patch(), PATCH_UNITS, " ".join(PATCH), "p2"),
     }
     if with_sensor:
-        series["sensors/floor/acceleration_body"] = (np.column_stack([zeros, 0.5 * np.sin(2 * np.pi * t), zeros]),
-                                                     "m/s^2", "ax ay az", "floor")
+        # an accelerometer's reading: +g vertically (docs/output.md /sensors specific_force_body)
+        series["sensors/floor/specific_force_body"] = (
+            np.column_stack([zeros, 0.5 * np.sin(2 * np.pi * t), zeros + 9.80665]), "m/s^2", "fx fy fz", "floor")
     return make_results_file(name, t, series, meta_attrs={"status": "completed"},
                              root_attrs={"title": "synthetic assessment scene"}, deck_text=DECK)
 
@@ -164,6 +166,9 @@ def test_every_quantity_of_the_synthetic_scene(make_results_file):
     assert steady <= q.value <= 1.01 * steady         # the switch-on transient adds 0.9 %
     assert q.series["value"][-1] == pytest.approx(steady, rel=1e-4)
     assert one(a, "Cc", sensor="floor", direction="x").value == pytest.approx(0.0, abs=1e-12)
+    # the constant +g starts no transient: the weightings remove a constant
+    assert one(a, "Cc", sensor="floor", direction="z").value == pytest.approx(0.0, abs=1e-12)
+    assert any("sensors/floor/specific_force_body" in n for n in a.notes)
 
 
 def test_missing_inputs_are_reported_not_raised(make_results_file):
@@ -174,7 +179,7 @@ def test_missing_inputs_are_reported_not_raised(make_results_file):
     rms = one(a, "sum_Y_rms", wheelset="w1")
     assert not rms.available and "shorter than the 100 m window" in rms.reason
     assert rms.to_json()["value"] is None and rms.to_json()["limit"] == pytest.approx(25e3)
-    assert not one(a, "N_MV").available and "no sensors" in one(a, "N_MV").reason
+    assert not one(a, "N_MV").available and "no &sensor in the deck" in one(a, "N_MV").reason
     assert not one(a, "Q_qst", side="left").available
     assert "no circular curve" in one(a, "Q_qst", side="left").reason
     assert one(a, "Y/Q", side="left").available

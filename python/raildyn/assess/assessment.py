@@ -83,7 +83,7 @@ def assess(path: str | os.PathLike, prudhomme_alpha: float = 1.0,
             a.quantities += wear_quantities(ws)
         sensors = read_sensors(r)
         if not sensors:
-            reason = "the file has no sensors/<name>/acceleration series (no sensors in the deck)"
+            reason = "the file has no sensors/<name>/ series (no &sensor in the deck, or &output groups without 'sensors')"
             a.quantities.append(not_available("N_MV", "1", reason))
             a.quantities.append(not_available("Cc", "m/s^2", reason))
         distance = np.asarray(r.get("vehicle/distance:sigma"), float) if "vehicle/distance" in r else None

@@ -41,11 +41,17 @@ def _rate(t: np.ndarray) -> float:
 
 
 def weighted_accelerations(t, ax, ay, az) -> dict[str, np.ndarray]:
-    """The weighted accelerations a_Xw (Wd), a_Yw (Wd), a_Zw (Wb) [m/s^2]."""
+    """The weighted accelerations a_Xw (Wd), a_Yw (Wd), a_Zw (Wb) [m/s^2]. Each signal is
+    taken relative to its first sample, i.e. as if the run had been preceded by its initial
+    state for ever: the weightings remove a constant (H(0) = 0), and an accelerometer's
+    +g (specific force) then starts no switch-on transient."""
     t = np.asarray(t, float)
     fs = _rate(t)
-    return {d: apply_weighting(DIRECTION_WEIGHTINGS[d], a, fs)
-            for d, a in zip("xyz", (ax, ay, az))}
+    out = {}
+    for d, a in zip("xyz", (ax, ay, az)):
+        a = np.asarray(a, float)
+        out[d] = apply_weighting(DIRECTION_WEIGHTINGS[d], a - a[0], fs)
+    return out
 
 
 def mean_comfort(t, ax, ay, az, period: float = PERIOD) -> tuple[float, float, dict[str, float]]:

@@ -167,23 +167,21 @@ def read_wheelsets(r: Results) -> list[WheelsetData]:
     return out
 
 
-_AXES = ("x", "y", "z")
+#: sensor series in order of preference: what an accelerometer on the floor reads (docs/output.md
+#: /sensors: acceleration minus gravity, car body axes), then the absolute acceleration
+_SENSOR_SERIES = ("specific_force_body", "acceleration_body", "acceleration_track")
 
 
 def read_sensors(r: Results) -> list[SensorData]:
-    """Sensor accelerations (``/sensors/<name>/acceleration_<frame>``, three columns x y z
-    in m/s^2; the body frame is preferred: EN 12299 measures along the car body's axes)."""
-    by_sensor: dict[str, list[str]] = {}
-    for c in r.channels():
-        parts = c.split("/")
-        if len(parts) == 3 and parts[0] == "sensors" and parts[2].startswith("acceleration"):
-            by_sensor.setdefault(parts[1], []).append(c)
+    """Sensor accelerations (``/sensors/<name>/...``, three columns x y z in m/s^2), from the
+    first of ``specific_force_body``, ``acceleration_body``, ``acceleration_track`` the file
+    holds: EN 12299 measures with accelerometers along the car body's axes."""
+    names = sorted({c.split("/")[1] for c in r.channels() if c.startswith("sensors/")})
     out = []
-    for name, series in sorted(by_sensor.items()):
-        series.sort(key=lambda s: (not s.endswith("_body"), s))
-        chosen = series[0]
-        data = np.asarray(r.get(chosen), float)
-        if data.shape[1] != 3:
-            continue
-        out.append(SensorData(name, chosen, data))
+    for name in names:
+        for kind in _SENSOR_SERIES:
+            series = f"sensors/{name}/{kind}"
+            if series in r and r.get(series).shape[1] == 3:
+                out.append(SensorData(name, series, np.asarray(r.get(series), float)))
+                break
     return out
