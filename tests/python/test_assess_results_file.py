@@ -30,6 +30,7 @@ to 300 m and a 500 m curve beyond. The wheel columns are set independently of ea
 """
 import json
 import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -37,6 +38,7 @@ import pytest
 from raildyn.assess import assess
 from raildyn.assess.filters import weighting_response
 
+REPO = Path(__file__).resolve().parents[2]
 PATCH = ("kind penetration normal_force xi eta spin creep_force_x creep_force_y spin_moment s_wheel "
          "u_rail wheel_point_x wheel_point_y wheel_point_z rail_point_x rail_point_y rail_point_z "
          "contact_angle rolling_radius semi_axis_a semi_axis_b hertz_warning reference_speed").split()
@@ -55,7 +57,7 @@ def tri(s, centre, half_width):
     return np.clip(1.0 - np.abs(s - centre) / half_width, 0.0, None)
 
 
-def write_scene(make_results_file, name="scene.h5", with_sensor=True, rows=1601):
+def write_scene(make_results_file, name="scene.h5", with_sensor=True, rows=1601, without=()):
     dt = 0.025
     t = np.arange(rows) * dt
     distance = 50.0 + 10.0 * t
@@ -98,6 +100,8 @@ def write_scene(make_results_file, name="scene.h5", with_sensor=True, rows=1601)
         "wheelsets/w1/right/patch1": (patch(), PATCH_UNITS, " ".join(PATCH), "p1"),
         "wheelsets/w1/right/patch2": (patch(), PATCH_UNITS, " ".join(PATCH), "p2"),
     }
+    for series_name in without:
+        del series[series_name]
     if with_sensor:
         # an accelerometer's reading: +g vertically (docs/output.md /sensors specific_force_body)
         series["sensors/floor/specific_force_body"] = (
@@ -187,6 +191,18 @@ def test_missing_inputs_are_reported_not_raised(make_results_file):
     assert "NaN" not in text
 
 
+def test_file_without_positions(make_results_file):
+    """Without vehicle/distance (&output groups without 'vehicle') no wheelset has a track
+    position: every wheelset quantity is listed as not available, with the reason."""
+    a = assess(write_scene(make_results_file, without=("vehicle/distance",)))
+    wheel = [q for q in a.quantities if q.wheelset == "w1"]
+    assert len(wheel) == 2 * 7 + 2 and not any(q.available for q in wheel)
+    assert all("no vehicle/distance series" in q.reason for q in wheel)
+    assert {q.name for q in wheel} == {"Y/Q", "sum_Y", "sum_Y_rms", "Q_max", "Y_qst", "Q_qst", "DeltaQ/Q",
+                                       "T_gamma", "RCF_index"}
+    assert one(a, "Cc", sensor="floor", direction="y").available
+
+
 def test_runner_assess_json_csv_html(make_results_file, raildyn_exe, tmp_path):
     path = write_scene(make_results_file)
     res = subprocess.run([str(raildyn_exe), "assess", str(path), "--json", "--csv", str(tmp_path / "csv"),
@@ -227,6 +243,12 @@ def test_runner_assess_errors(raildyn_exe, tmp_path, make_results_file):
         pass
     res = subprocess.run([str(raildyn_exe), "assess", str(tmp_path / "empty.h5")], capture_output=True, text=True)
     assert res.returncode == 1 and "not a raildyn results file" in res.stderr and "Traceback" not in res.stderr
+    track = tmp_path / "track.h5"         # a track export: rows along sigma, not a run
+    subprocess.run([str(raildyn_exe), "track", str(REPO / "inputs" / "first_wagon.nml"), "-o", str(track)],
+                   capture_output=True, check=True, timeout=120)
+    res = subprocess.run([str(raildyn_exe), "assess", str(track)], capture_output=True, text=True)
+    assert res.returncode == 1 and "only the results of a run can be assessed" in res.stderr
+    assert "Traceback" not in res.stderr
     path = write_scene(make_results_file)
     res = subprocess.run([str(raildyn_exe), "assess", str(path), "--prudhomme-alpha", "2"],
                          capture_output=True, text=True)

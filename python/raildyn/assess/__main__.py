@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -50,7 +51,11 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, KeyError) as e:    # Results: not a raildyn results file
         print(f"raildyn assess: error: {args.results}: {e}", file=sys.stderr)
         return 1
-    print(to_json_text(a) if args.json else text_table(a))
+    try:
+        print(to_json_text(a) if args.json else text_table(a))
+        sys.stdout.flush()
+    except BrokenPipeError:          # e.g. `raildyn assess out.h5 | head`: the reader left
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
     return 0
 
 

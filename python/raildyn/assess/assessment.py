@@ -12,7 +12,7 @@ import numpy as np
 from ..results import Results
 from .comfort import comfort_quantities
 from .filters import butterworth_lowpass_gain, magnitude_filter
-from .layout import LayoutError, read_sensors, read_wheelsets
+from .layout import SIDES, LayoutError, read_sensors, read_wheelsets, wheelset_names
 from .quantity import Quantity, not_available
 from .running_safety import running_safety
 from .track_loading import track_loading
@@ -54,10 +54,28 @@ def _lowpass_for(t: np.ndarray, notes: list[str]):
     return lambda y: magnitude_filter(y, fs, lambda f: butterworth_lowpass_gain(f, FORCE_CUTOFF))
 
 
+#: the wheelset quantities: (name, unit, per wheel)
+_WHEELSET_QUANTITIES = (("Y/Q", "1", True), ("sum_Y", "N", False), ("sum_Y_rms", "N", False),
+                        ("Q_max", "N", True), ("Y_qst", "N", True), ("Q_qst", "N", True),
+                        ("DeltaQ/Q", "1", True), ("T_gamma", "N", True), ("RCF_index", "1", True))
+
+
+def _wheelset_not_available(wheelset: str | None, reason: str) -> list[Quantity]:
+    """Every wheelset quantity of one wheelset (or of none) as not available."""
+    out = []
+    for name, unit, per_wheel in _WHEELSET_QUANTITIES:
+        for side in (SIDES if per_wheel and wheelset else (None,)):
+            out.append(not_available(name, unit, reason, wheelset=wheelset, side=side))
+    return out
+
+
 def assess(path: str | os.PathLike, prudhomme_alpha: float = 1.0,
            instability_frequency: float | None = None) -> Assessment:
     """Assess the results file ``path`` (docs/assessment.md)."""
     with Results(path) as r:
+        if r.axis != "time":
+            raise ValueError(f"its rows are along '{r.axis}', not in time (a raildyn track export?): "
+                             "only the results of a run can be assessed")
         meta = r.metadata
         a = Assessment(os.fspath(path), str(meta.get("status", "unknown")), str(meta.get("title", "")))
         if a.status != "completed":
@@ -72,10 +90,11 @@ def assess(path: str | os.PathLike, prudhomme_alpha: float = 1.0,
             wheelsets = read_wheelsets(r)
         except LayoutError as e:
             wheelsets = []
-            a.quantities.append(not_available("Y/Q", "1", str(e)))
-        if not wheelsets and not a.quantities:
-            a.quantities.append(not_available(
-                "Y/Q", "1", "the file has no wheelsets/ series: no wheel-rail contact written"))
+            for name in wheelset_names(r):
+                a.quantities += _wheelset_not_available(name, str(e))
+        if not wheelset_names(r):
+            a.quantities += _wheelset_not_available(
+                None, "the file has no wheelsets/ series: no wheel-rail contact written")
         for ws in wheelsets:
             a.notes.append(f"wheelset {ws.name}: track position = {ws.position_note}")
             a.quantities += running_safety(ws, t, lowpass, prudhomme_alpha, instability_frequency)

@@ -22,7 +22,7 @@ import numpy as np
 from ..results import Results
 
 __all__ = ["LayoutError", "WheelsetData", "SensorData", "deck_groups", "read_wheelsets",
-           "read_sensors", "SIDES"]
+           "read_sensors", "wheelset_names", "SIDES"]
 
 SIDES = ("left", "right")
 
@@ -119,9 +119,14 @@ def _frame_offset(bodies: dict[str, dict[str, str]], body: str) -> float:
     raise LayoutError(f"body {body!r} is not in the deck stored in the file")
 
 
+def wheelset_names(r: Results) -> list[str]:
+    """Names of the wheelsets that have series in the file, sorted."""
+    return sorted({c.split("/")[1] for c in r.channels() if c.startswith("wheelsets/")})
+
+
 def read_wheelsets(r: Results) -> list[WheelsetData]:
     """Every wheelset with wheel-rail contact series in the file, in file order."""
-    names = sorted({c.split("/")[1] for c in r.channels() if c.startswith("wheelsets/")})
+    names = wheelset_names(r)
     if not names:
         return []
     groups = deck_groups(r.deck_text or "")
