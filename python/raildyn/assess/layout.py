@@ -65,7 +65,11 @@ def deck_groups(text: str) -> list[tuple[str, dict[str, str]]]:
         j = _first_outside_quotes(body, "/", start + m.end())     # the group ends at '/'
         content = body[start + m.end():j]
         params: dict[str, str] = {}
-        names = list(re.finditer(r"(?:^|,|\s)(\w+)\s*=", content))
+        equals, k = set(), _first_outside_quotes(content, "=")      # '=' not inside a string
+        while k < len(content):
+            equals.add(k)
+            k = _first_outside_quotes(content, "=", k + 1)
+        names = [a for a in re.finditer(r"(?:^|,|\s)(\w+)\s*=", content) if a.end() - 1 in equals]
         for k, a in enumerate(names):
             end = names[k + 1].start() if k + 1 < len(names) else len(content)
             value = content[a.end():end].strip().rstrip(",").strip()
