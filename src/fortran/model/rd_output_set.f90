@@ -27,6 +27,7 @@ module rd_output_set
     procedure :: find => output_set_find
     procedure :: clear => output_set_clear
     procedure :: packed => output_set_packed
+    procedure :: packed_index => output_set_packed_index
   end type output_set_t
 
 contains
@@ -89,6 +90,37 @@ contains
       k = k + n
     end do
   end function output_set_packed
+
+  !> Position in the packed vector (output_set_packed) of the column `component` of the
+  !> channel `name`; 0 when there is no such channel or column.
+  pure integer function output_set_packed_index(self, name, component) result(k)
+    class(output_set_t), intent(in) :: self
+    character(len=*), intent(in) :: name, component
+    integer :: i, column, start, finish
+    k = 0
+    do i = 1, self%n
+      associate (c => self%channels(i))
+        if (c%name == name) then
+          ! the column's number among the space-separated component names
+          column = 0
+          start = 1
+          do while (start <= len(c%components))
+            finish = index(c%components(start:) // ' ', ' ') + start - 2
+            column = column + 1
+            if (c%components(start:finish) == component) then
+              k = k + column
+              return
+            end if
+            start = finish + 2
+          end do
+          k = 0
+          return
+        end if
+        k = k + size(c%values)
+      end associate
+    end do
+    k = 0
+  end function output_set_packed_index
 
   subroutine output_set_clear(self)
     class(output_set_t), intent(inout) :: self

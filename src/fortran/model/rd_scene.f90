@@ -25,6 +25,7 @@ module rd_scene
   use rd_output_average, only: output_average_t
   use rd_results_state, only: results_state_t, read_state_row
   use rd_frame_drift, only: frame_drift_t
+  use rd_safety_maxima, only: safety_maxima_t
   use rd_text, only: int_text, real_text
   use rd_scene_track, only: build_scene_track, build_scene_irregularity
   use rd_track_irregularity, only: track_irregularity_t
@@ -100,6 +101,8 @@ module rd_scene
     real(wp), allocatable :: max_sampled_q(:, :)
     !> how far bodies with free x left their track frames (run notes)
     type(frame_drift_t) :: drift
+    !> the records' running-safety maxima for the completion line (rd_safety_maxima)
+    type(safety_maxima_t) :: safety
     real(wp), allocatable :: frame_offsets(:)   !< track frames at sigma_vehicle + offset
     type(output_set_t) :: outputs
     !> &output groups: the channel groups written to the results file (channel_group)
@@ -555,6 +558,14 @@ contains
       if (allocated(error)) return
     end if
     if (self%nbodies > 0) call self%drift%start(self%mbs, self%y)
+    self%safety = safety_maxima_t()
+    if (associated(self%contact)) then
+      do i = 1, size(self%wheelset_names)
+        associate (b => self%mbs%bodies(self%contact%models(i)%body))
+          call self%safety%add_wheelset(self%outputs, trim(self%wheelset_names(i)), b%name, b%frame)
+        end associate
+      end do
+    end if
 
     if (write_output) then
       if (allocated(self%output_override)) then
@@ -735,6 +746,7 @@ contains
       call self%writer%end_step(self%t, error)
       if (allocated(error)) return
     end if
+    call self%safety%add_record(values)
     self%output_steps = self%output_steps + 1
   end subroutine write_record
 
@@ -1439,6 +1451,7 @@ contains
     class(scene_t), intent(in) :: self
     character(len=:), allocatable :: text
     type(integrator_stats_t) :: st
+    character(len=:), allocatable :: safety
     text = 'completed t = ' // trim(real_text(self%t)) // ' s, ' // trim(int_text(int(self%output_steps))) // &
            ' output steps'
     if (associated(self%integrator)) then
@@ -1449,6 +1462,8 @@ contains
              trim(int_text(st%error_test_failures)) // ' error-test failures, ' // &
              trim(int_text(st%nonlinear_conv_failures)) // ' Newton failures'
     end if
+    safety = self%safety%summary()
+    if (len(safety) > 0) text = text // new_line('a') // safety
     text = text // self%contact_notes(new_line('a') // 'note: ')
     if (associated(self%mbs)) text = text // self%drift%notes(self%mbs, new_line('a') // 'warning: ')
   end function scene_completion_summary
