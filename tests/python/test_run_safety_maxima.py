@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 WHEELSET = """&simulation title = 'ws', t_end = {t_end}, speed = {speed}, equilibrium = 'solve' /
-&output interval = 0.005 /
+&output interval = {interval} /
 &segment type = 'straight', length = 100.0 /
 &body name = 'ws1', mass = 1500.0, ixx = 799.35, iyy = 93.75, izz = 799.35,
       position = 0.0, {y0}, 0.45, frozen = {frozen} /
@@ -30,7 +30,7 @@ G = 9.80665
 
 
 def run(exe, tmp_path, **kw):
-    values = dict(t_end=1.0, speed=20.0, y0=0.003, frozen="'x'")
+    values = dict(t_end=1.0, speed=20.0, y0=0.003, frozen="'x'", interval=0.005)
     values.update(kw)
     deck = tmp_path / "ws.nml"
     deck.write_text(WHEELSET.format(**values))
@@ -97,3 +97,19 @@ def test_no_window_without_track_covered(raildyn_exe, tmp_path):
     out = run(raildyn_exe, tmp_path, t_end=0.1, speed=0.0, y0=0.0, frozen="'x', 'y', 'yaw', 'roll'")
     assert re.search(r"running safety \(.*\): no 2 m window: the wheelsets covered 0\.00 m of track; "
                      r"max Q [\d.]+ kN \(w1 (left|right) at 0\.0 m\)$", out, re.M), out
+
+
+def test_equals_raildyn_assess_where_it_does_not_filter(raildyn_exe, tmp_path):
+    """At 40 Hz output raildyn assess takes the forces as written (no 20 Hz low pass): its
+    Y/Q and sum Y (same windows, positions and Q0) are the completion line's."""
+    from raildyn.assess import assess
+    m = LINE.search(run(raildyn_exe, tmp_path, t_end=2.0, interval=0.025))
+    assert m
+    a = assess(tmp_path / "ws.h5")
+    assert any("forces used as written" in n for n in a.notes), a.notes
+    yq = max((q for q in a.find("Y/Q") if q.value is not None), key=lambda q: q.value)
+    assert (m.group(2), m.group(3)) == (yq.wheelset, yq.side)
+    assert close(m.group(1), yq.value, 3) and close(m.group(4), yq.position, 1), (m.group(0), yq)
+    (sy,) = a.find("sum_Y", wheelset="w1")
+    assert close(m.group(5), abs(sy.value) / 1e3, 1) and close(m.group(7), sy.position, 1), (m.group(0), sy)
+    assert close(m.group(9), sy.limit / 1e3, 1), (m.group(0), sy)
