@@ -18,7 +18,15 @@ A campaign is described by a TOML file (SI units, paths relative to the file)::
     name = "ws1_lateral_amplitude"
     channel = "bodies/ws1/position_track:y"        # series path, ':component' optional
     reduce = "max_abs"                             # max min mean max_abs rms final growth_rate
-    window = [5.0, 10.0]                           # optional time window [s]
+    window = [5.0, 10.0]                           # optional time window [s], or
+    # window_position = [100.0, 400.0]             # track positions [m] (/vehicle/distance)
+
+    [[metrics]]                                    # a quantity of raildyn assess instead
+    name = "yq_w1"
+    quantity = "Y/Q"                               # its "name" (docs/assessment.md)
+    wheelset = "w1"                                # optional: wheelset side sensor direction patch
+    take = "value"                                 # value (default) margin limit position
+    window_position = [100.0, 400.0]               # optional: assess only these rows
 
     [slurm]                                        # executor = "slurm"
     options = ["--time=00:30:00", "--mem=2G"]
@@ -32,6 +40,22 @@ and executable). So a campaign can be resumed after an interruption (Ctrl-C stop
 "interrupted; rerun to resume", exit status 130); a completed run whose results file is
 damaged runs again. ``summary.csv`` collects parameters, status and metrics; a failed run's
 row says why (``error``) and at which simulated time (``failed_at``, s).
+
+Windows: ``window`` keeps the rows with time in ``[t_from, t_to]`` (s), ``window_position``
+those whose track position ``/vehicle/distance`` (the vehicle reference point) lies in
+``[s_from, s_to]`` (m), so that runs at different speeds compare the same stretch of track.
+A window without rows is an error naming the metric and what the run covered.
+
+Quantity metrics name a quantity of ``raildyn assess`` (``raildyn.assess``, docs/assessment.md)
+by its JSON ``"name"`` (``"Y/Q"``, ``"sum_Y"``, ``"Q_max"``, ``"N_MV"``, ``"T_gamma"``, ...),
+narrowed by ``wheelset``, ``side``, ``sensor``, ``direction``, ``patch``; where several
+quantities match, the metric is the worst of them: the smallest margin to its limit, or for
+quantities without a limit the largest magnitude. ``take`` chooses what the summary gets of
+it: its ``value``, its ``margin`` ((limit - |value|) / limit), its ``limit`` or the track
+``position`` of the value. With a window the assessment runs on a copy of the results cut to
+the window's rows (``raildyn.results_window``), so windowed sliding means and percentiles
+cover that stretch only. A quantity the assessment reports as not available (no sensors,
+track shorter than a window) is an error with its reason.
 
 Command line::
 
@@ -59,6 +83,7 @@ import shlex
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import tomllib
@@ -71,9 +96,16 @@ import numpy as np
 
 from .executable import ExecutableNotFound, find_raildyn_executable
 from .results import Results
+from .results_window import write_rows
 
 KEY_RE = re.compile(r"^(?P<group>[a-z_]+)(\[(?P<name>[^\]]+)\])?\.(?P<param>[a-z_0-9]+)$")
 REDUCTIONS = ("max", "min", "mean", "max_abs", "rms", "final", "growth_rate")
+#: what a quantity metric takes of the quantity (raildyn assess JSON fields)
+TAKES = ("value", "margin", "limit", "position")
+#: fields of a raildyn assess quantity a metric may select by
+QUANTITY_SELECTORS = ("wheelset", "side", "sensor", "direction", "patch")
+METRIC_KEYS = {"name", "channel", "reduce", "window", "window_position", "quantity", "take",
+               *QUANTITY_SELECTORS}
 
 
 class CampaignError(ValueError):
@@ -82,10 +114,15 @@ class CampaignError(ValueError):
 
 @dataclass
 class Metric:
+    """One number per run: a channel reduced over a window, or a raildyn assess quantity."""
     name: str
-    channel: str
-    reduce: str
-    window: tuple[float, float] | None = None
+    channel: str | None = None
+    reduce: str | None = None
+    window: tuple[float, float] | None = None            #: time [s]
+    window_position: tuple[float, float] | None = None   #: track position [m]
+    quantity: str | None = None
+    select: dict[str, Any] = field(default_factory=dict)
+    take: str = "value"
 
 
 @dataclass
@@ -169,21 +206,50 @@ def load_campaign(path: str | os.PathLike) -> Campaign:
             _fortran_value(v, f"{path}: sweep '{key}'")
         camp.sweep[key] = values
     for i, m in enumerate(data.get("metrics", [])):
-        where = f"{path}: metrics[{i}]"
-        for k in ("name", "channel", "reduce"):
-            if k not in m:
-                raise CampaignError(f"{where}: '{k}' is required")
-        if m["reduce"] not in REDUCTIONS:
-            raise CampaignError(f"{where}: reduce must be one of {REDUCTIONS}, got {m['reduce']!r}")
-        window = m.get("window")
-        if window is not None and (len(window) != 2 or not window[0] < window[1]):
-            raise CampaignError(f"{where}: window must be [t_from, t_to] with t_from < t_to")
-        camp.metrics.append(Metric(m["name"], m["channel"], m["reduce"],
-                                   tuple(window) if window else None))
+        camp.metrics.append(_load_metric(m, f"{path}: metrics[{i}]"))
     camp.slurm_options = list(data.get("slurm", {}).get("options", []))
     if "raildyn" in data:
         camp.exe = (base / data["raildyn"]).resolve()
     return camp
+
+
+def _load_metric(m: dict[str, Any], where: str) -> Metric:
+    """One [[metrics]] entry; `where` names it in errors."""
+    unknown = sorted(set(m) - METRIC_KEYS)
+    if unknown:
+        raise CampaignError(f"{where}: unknown entry '{unknown[0]}'; expected some of {sorted(METRIC_KEYS)}")
+    if "name" not in m:
+        raise CampaignError(f"{where}: 'name' is required")
+    windows = {}
+    for key, what in (("window", "[t_from, t_to] (s) with t_from < t_to"),
+                      ("window_position", "[s_from, s_to] (m) with s_from < s_to")):
+        w = m.get(key)
+        if w is None:
+            continue
+        if (not isinstance(w, list) or len(w) != 2
+                or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in w)
+                or not all(math.isfinite(v) for v in w) or not w[0] < w[1]):
+            raise CampaignError(f"{where}: {key} must be {what}, got {w!r}")
+        windows[key] = (float(w[0]), float(w[1]))
+    if len(windows) == 2:
+        raise CampaignError(f"{where}: give window (time) or window_position (track), not both")
+    if "quantity" in m:
+        if "channel" in m or "reduce" in m:
+            raise CampaignError(f"{where}: a metric has a quantity (raildyn assess) or a channel "
+                                "with reduce, not both")
+        if m.get("take", "value") not in TAKES:
+            raise CampaignError(f"{where}: take must be one of {TAKES}, got {m['take']!r}")
+        return Metric(m["name"], quantity=str(m["quantity"]),
+                      select={k: m[k] for k in QUANTITY_SELECTORS if k in m},
+                      take=m.get("take", "value"), **windows)
+    for k in ("channel", "reduce"):
+        if k not in m:
+            raise CampaignError(f"{where}: '{k}' is required (or 'quantity', a raildyn assess quantity)")
+    if m["reduce"] not in REDUCTIONS:
+        raise CampaignError(f"{where}: reduce must be one of {REDUCTIONS}, got {m['reduce']!r}")
+    if "take" in m or any(k in m for k in QUANTITY_SELECTORS):
+        raise CampaignError(f"{where}: take and {', '.join(QUANTITY_SELECTORS)} belong to quantity metrics")
+    return Metric(m["name"], m["channel"], m["reduce"], **windows)
 
 
 def override_deck(base_deck: Path, params: dict[str, Any]) -> str:
@@ -407,9 +473,71 @@ def growth_rate(t: np.ndarray, y: np.ndarray) -> float:
     return float(np.polyfit(tp[keep], np.log(yp[keep]), 1)[0])
 
 
+def _window_rows(campaign: Campaign, m: Metric, res: Results, path: Path) -> np.ndarray | None:
+    """The rows of metric m's window (None: every row); an empty window is a CampaignError
+    saying what the run covered."""
+    if m.window is not None:
+        axis, what, unit, (a, b) = res.time, "time", "s", m.window
+    elif m.window_position is not None:
+        if "vehicle/distance" not in res:
+            raise CampaignError(f"{campaign.path}: metric '{m.name}': window_position needs the "
+                                f"track position /vehicle/distance, which {path} does not hold "
+                                "(&output groups 'vehicle')")
+        axis, what, unit, (a, b) = res.get("vehicle/distance:sigma"), "track position", "m", m.window_position
+    else:
+        return None
+    rows = (axis >= a) & (axis <= b)
+    if not rows.any():
+        covered = f"{axis.min():g} to {axis.max():g} {unit}" if axis.size else "nothing"
+        raise CampaignError(f"{campaign.path}: metric '{m.name}': no rows of {path} in its {what} "
+                            f"window [{a:g}, {b:g}] {unit}; the run covered {covered}")
+    return rows
+
+
+def _assessment_quantities(path: Path) -> list[dict[str, Any]]:
+    """The "quantities" of ``raildyn assess PATH --json`` (raildyn.assess)."""
+    try:
+        from . import assess
+    except ImportError as exc:
+        raise CampaignError(f"quantity metrics need raildyn.assess, which cannot be imported ({exc})") from None
+    return assess.assess(path).to_json()["quantities"]
+
+
+def _label(q: dict[str, Any]) -> str:
+    return " ".join(str(q[k]) for k in ("name", *QUANTITY_SELECTORS) if q.get(k) is not None)
+
+
+def quantity_metric(campaign: Campaign, m: Metric, quantities: list[dict[str, Any]], path: Path) -> float:
+    """Metric m from an assessment's quantities (JSON objects): the worst match's `take`."""
+    where = f"{campaign.path}: metric '{m.name}'"
+    named = [q for q in quantities if q["name"] == m.quantity]
+    if not named:
+        names = sorted({q["name"] for q in quantities})
+        raise CampaignError(f"{where}: raildyn assess has no quantity '{m.quantity}' for {path}; "
+                            f"it has {', '.join(names)}")
+    matches = [q for q in named if all(q.get(k) == v for k, v in m.select.items())]
+    if not matches:
+        raise CampaignError(f"{where}: no '{m.quantity}' with {m.select} in {path}; there are "
+                            + ", ".join(_label(q) for q in named))
+    missing = [q for q in matches if q.get("value") is None]
+    if missing:
+        raise CampaignError(f"{where}: {_label(missing[0])} is not available for {path}: "
+                            f"{missing[0].get('reason', 'no reason given')}")
+    limited = [q for q in matches if q.get("margin") is not None]
+    if limited:
+        worst = min(limited, key=lambda q: q["margin"])
+    else:
+        worst = max(matches, key=lambda q: abs(q["value"]))
+    value = worst.get(m.take)
+    if value is None:
+        raise CampaignError(f"{where}: {_label(worst)} has no {m.take} (limit: {worst.get('limit')})")
+    return float(value)
+
+
 def metrics_of(campaign: Campaign, run: Path) -> dict[str, float]:
-    """The campaign's metrics of one completed run; a results file that cannot be read or a
-    metric whose channel it does not hold is a CampaignError naming them."""
+    """The campaign's metrics of one completed run; a results file that cannot be read, a
+    metric whose channel it does not hold, an empty window or a quantity the assessment
+    cannot give is a CampaignError naming them."""
     path = run / "results.h5"
     try:
         res = Results(path)
@@ -417,8 +545,16 @@ def metrics_of(campaign: Campaign, run: Path) -> dict[str, float]:
         raise CampaignError(f"{path}: cannot read the results file ({exc}); delete it and "
                             "rerun the campaign to run it again") from None
     out = {}
+    assessed: dict[Any, list[dict[str, Any]]] = {}    # one assessment per window
     with res:
         for m in campaign.metrics:
+            rows = _window_rows(campaign, m, res, path)
+            if m.quantity is not None:
+                key = (m.window, m.window_position)
+                if key not in assessed:
+                    assessed[key] = _assess_rows(path, rows, run)
+                out[m.name] = quantity_metric(campaign, m, assessed[key], path)
+                continue
             try:
                 data = res.get(m.channel)
             except KeyError:
@@ -428,8 +564,21 @@ def metrics_of(campaign: Campaign, run: Path) -> dict[str, float]:
                     f"{path}" + (f"; close names: {', '.join(close)}" if close else "")) from None
             if data.ndim > 1:
                 data = data[:, 0]
-            out[m.name] = reduce_channel(res.time, data, m.reduce, m.window)
+            t = res.time
+            if rows is not None:
+                t, data = t[rows], data[rows]
+            out[m.name] = reduce_channel(t, data, m.reduce, None)
     return out
+
+
+def _assess_rows(path: Path, rows: np.ndarray | None, run: Path) -> list[dict[str, Any]]:
+    """The assessment of the results `path`, or of its rows `rows` only (a cut copy in a
+    temporary folder)."""
+    if rows is None:
+        return _assessment_quantities(path)
+    with tempfile.TemporaryDirectory(prefix="raildyn-window-") as tmp:
+        cut = write_rows(path, rows, Path(tmp) / f"{run.name}.h5")
+        return _assessment_quantities(cut)
 
 
 def _read_status(run: Path) -> dict[str, Any]:
