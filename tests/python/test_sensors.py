@@ -20,6 +20,7 @@ import pytest
 import raildyn
 
 G = 9.81
+G_DEFAULT = 9.80665      # &simulation gravity's default
 
 CURVE = """&simulation title = 'sensor in a curve', t_end = 0.5, speed = {V}, equilibrium = 'none',
       start_sigma = 100.0, gravity = {g} /
@@ -154,3 +155,37 @@ def test_two_sensors_with_one_name_are_refused(raildyn_exe, tmp_path):
     deck.write_text(deck.read_text() + "&sensor name = 'floor', body = 'car', position = 0.0, 0.0, 0.0 /\n")
     err = run(raildyn_exe, "check", deck, expect=1).stderr
     assert "curve.nml:10" in err and "floor" in err, err
+
+
+WHEELSET = """&simulation title = 'axle box sensor', t_end = 0.2, speed = 20.0, equilibrium = 'solve' /
+&output interval = 0.01 /
+&segment type = 'straight', length = 100.0 /
+&body name = 'ws1', mass = 1500.0, ixx = 799.35, iyy = 93.75, izz = 799.35,
+      position = 0.0, 0.0, 0.45, frozen = 'x', 'y', 'yaw', 'roll' /
+&wheelset name = 'w1', body = 'ws1', contact = 'knife_edge', nominal_radius = 0.45,
+      contact_distance = 1.5, conicity = 0.05, creep_law = 'linear' /
+&sensor name = 'axle_box', body = 'ws1', position = 0.3, 1.0, 0.1 /
+"""
+
+
+def test_a_wheelset_sensor_does_not_turn_with_the_wheel(raildyn_exe, tmp_path):
+    """On a wheelset the point is fixed in the axle-box frame: rolling at V / r0 = 44 rad/s
+    (9 turns in 0.2 s) it stays at the same offset from the wheelset's centre, moving with it
+    at V along the track."""
+    deck = tmp_path / "ws.nml"
+    deck.write_text(WHEELSET)
+    run(raildyn_exe, "run", deck, "-o", tmp_path / "ws.h5")
+    with h5py.File(tmp_path / "ws.h5", "r") as f:
+        q = f["bodies/ws1/position_track"][:]
+        qd = f["bodies/ws1/velocity_track"][:]
+        qdd = f["bodies/ws1/acceleration_track"][:]
+        s = f["sensors/axle_box"]
+        n = len(f["time"])
+        # only z (and the spin) move: the point is the centre plus the fixed offset
+        np.testing.assert_allclose(s["position_track"][:], q[:, :3] + [0.3, 1.0, 0.1], atol=1e-12)
+        np.testing.assert_allclose(s["velocity_track"][:], np.c_[20.0 + 0 * qd[:, 0], 0 * qd[:, 0], qd[:, 2]],
+                                   atol=1e-12)
+        np.testing.assert_allclose(s["acceleration_track"][:], np.c_[0 * qdd[:, 0], 0 * qdd[:, 0], qdd[:, 2]],
+                                   atol=1e-9)
+        np.testing.assert_allclose(s["specific_force_body"][:, 2], qdd[:, 2] + G_DEFAULT, atol=1e-9)
+        assert n == 21
