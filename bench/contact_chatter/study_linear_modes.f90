@@ -10,6 +10,10 @@
 !> by two models.
 !> A mode with a negative damping ratio grows: the scene's equations are unstable there
 !> (flutter), whatever the integrator does.
+!> Environment (used by flutter.py): STUDY_STATE_FILE (text 't y1 ... yn': linearise there
+!> instead of integrating to T_LIN), STUDY_DUMP_JAC (write nfree and the Jacobian to a file),
+!> STUDY_BLOCK_BODY (print that body's acceleration-by-coordinate block and its state slots),
+!> STUDY_FD_STEP (the coordinate step, default 2e-9 m or rad).
 program study_linear_modes
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t
@@ -21,7 +25,11 @@ program study_linear_modes
   type(error_t), allocatable :: error
   type(multibody_t), pointer :: mbs
   character(len=512) :: deck, deck2, arg
-  real(wp) :: t_lin, f_min, h
+  real(wp) :: t_lin, f_min, h, h_coord
+  integer :: block_body, stat, kk, jj
+  character(len=512) :: state_file
+  real(wp) :: t_eval
+  character(len=64) :: env
   real(wp), allocatable :: y(:), yp(:), fp(:), fm(:), jac(:, :), wr(:), wi(:), vr(:, :), work(:), vl(:, :)
   integer :: n, nfree, j, info, k, order(2), lwork
   logical :: recoverable
@@ -36,12 +44,25 @@ program study_linear_modes
   deck2 = deck
   if (command_argument_count() > 3) call get_command_argument(4, deck2)
   call start_scene(trim(deck), scene)
+  ! optional: STUDY_STATE_FILE = text file 't y(1) ... y(n)': linearise there instead of advancing
+  state_file = ''
+  call get_environment_variable('STUDY_STATE_FILE', state_file, status=stat)
+  if (stat == 0 .and. len_trim(state_file) > 0) then
+    t_lin = -1
+  end if
   if (t_lin > 0) then
     call scene%advance(t_lin, error); call stop_on(error)
   end if
   n = scene%state_size()
   allocate (y(n), yp(n), fp(n), fm(n), jac(n, n), wr(n), wi(n), vr(n, n), vl(1, 1))
   call scene%get_state(y, error); call stop_on(error)
+  t_eval = scene%time()
+  if (t_lin < 0) then
+    open (newunit=kk, file=trim(state_file), status='old', action='read')
+    read (kk, *) t_eval, y
+    close (kk)
+    t_lin = t_eval
+  end if
   mbs => scene%system()
   if (deck2 /= deck) then
     call start_scene(trim(deck2), scene2)
@@ -57,15 +78,47 @@ program study_linear_modes
       if (mbs%free_slot(j, k) > 0) nfree = nfree + 1
     end do
   end do
+  ! optional: STUDY_FD_STEP (coordinate step, m or rad), STUDY_BLOCK_BODY (print d(accel)/d(coord)
+  ! of one body: the negative stiffness per unit mass/inertia)
+  h_coord = 2.0e-9_wp
+  call get_environment_variable('STUDY_FD_STEP', env, status=stat)
+  if (stat == 0) read (env, *) h_coord
+  block_body = 0
+  call get_environment_variable('STUDY_BLOCK_BODY', env, status=stat)
+  if (stat == 0) read (env, *) block_body
   do j = 1, n
     h = 1.0e-7_wp * max(1.0e-2_wp, abs(y(j)))
-    if (j <= nfree) h = 2.0e-9_wp            ! coordinates: m or rad (Hertz approach ~50 um)
+    if (j <= nfree) h = h_coord            ! coordinates: m or rad (Hertz approach ~50 um)
     yp = y; yp(j) = y(j) + h
-    call mbs%rhs(scene%time(), yp, fp, error, recoverable); call stop_on(error)
+    call mbs%rhs(t_eval, yp, fp, error, recoverable); call stop_on(error)
     yp(j) = y(j) - h
-    call mbs%rhs(scene%time(), yp, fm, error, recoverable); call stop_on(error)
+    call mbs%rhs(t_eval, yp, fm, error, recoverable); call stop_on(error)
     jac(:, j) = (fp - fm) / (2 * h)
   end do
+  if (block_body > 0) then
+    print '(a,i0,a)', 'd(accel)/d(coord) of body ', block_body, ' (rows: accel of x y z yaw roll spin; cols: coord)'
+    print '(a,6i4)', 'free slots (x y z yaw roll spin, 0 = frozen):', (mbs%free_slot(block_body, kk), kk = 1, 6)
+    do k = 1, 6
+      if (mbs%free_slot(block_body, k) <= 0) cycle
+      write (*, '(a8)', advance='no') dof_name(k)
+      do kk = 1, 6
+        jj = mbs%free_slot(block_body, kk)
+        if (jj <= 0) cycle
+        write (*, '(es12.3)', advance='no') jac(nfree + mbs%free_slot(block_body, k), jj)
+      end do
+      print *
+    end do
+  end if
+  ! optional: STUDY_DUMP_JAC = file for the Jacobian (n rows of n values) and nfree on line 1
+  call get_environment_variable('STUDY_DUMP_JAC', state_file, status=stat)
+  if (stat == 0 .and. len_trim(state_file) > 0) then
+    open (newunit=kk, file=trim(state_file), status='replace', action='write')
+    write (kk, '(i0)') nfree
+    do j = 1, n
+      write (kk, '(*(es24.16))') jac(j, :)
+    end do
+    close (kk)
+  end if
   lwork = 8 * n
   allocate (work(lwork))
   call dgeev('N', 'V', n, jac, n, wr, wi, vl, 1, vr, n, work, lwork, info)
