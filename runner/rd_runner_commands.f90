@@ -11,7 +11,7 @@ module rd_runner_commands
   use rd_cmd_creep, only: run_creep_command, creep_usage
   use rd_cmd_profile_scan, only: run_profile_scan_command, profile_scan_usage
   use rd_track_export, only: export_track
-  use rd_build_info, only: python_command, shell_quote
+  use rd_build_info, only: python_command, shell_quote, runner_path
   use rd_json, only: json_string
   use rd_runner_scene, only: start_scene
   use rd_cmd_eigen, only: run_eigen_command, eigen_usage
@@ -31,6 +31,7 @@ module rd_runner_commands
   character(len=*), parameter :: usage = &
     'usage: raildyn run DECK [-o OUT.h5] [--restart RESULTS.h5] [--progress|--quiet] | check DECK [--json] | ' // &
     'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | eigen DECK ... | ' // &
+    'critical-speed DECK --method linear|bisection|ramp ... | ' // &
     'campaign run|summary|decks CAMPAIGN.toml | export RESULTS.h5 --csv DIR | ' // &
     'assess RESULTS.h5 [--json] [--csv DIR] [--html DIR] | hertz ... | creep ... | ' // &
     'version | help [COMMAND]' // &
@@ -43,6 +44,9 @@ module rd_runner_commands
   character(len=*), parameter :: check_usage = 'usage: raildyn check DECK [--json]'
   character(len=*), parameter :: track_usage = &
     'usage: raildyn track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE]'
+  character(len=*), parameter :: critical_speed_usage = &
+    'usage: raildyn critical-speed DECK --method linear|bisection|ramp [--speeds LO,HI] [--resolution DV] ' // &
+    '[--dofs ...] [--channel SERIES] [--t-end T] [--t-from T] [--jobs N] [--hold T] [--duration T] [--work DIR] [--json]'
   character(len=*), parameter :: export_usage = 'usage: raildyn export RESULTS.h5 --csv DIR'
   character(len=*), parameter :: assess_usage = &
     'usage: raildyn assess RESULTS.h5 [--json] [--csv DIR] [--html DIR] [--prudhomme-alpha ALPHA] ' // &
@@ -78,6 +82,8 @@ contains
       call run_profile_scan_command(args(2:), status)
     case ('eigen')
       call run_eigen_command(args(2:), status)
+    case ('critical-speed')
+      call command_critical_speed(args(2:), status)
     case ('campaign')
       call command_python('raildyn.campaign', args(2:), status)
     case ('export')
@@ -131,6 +137,7 @@ contains
     case ('track'); text = track_usage
     case ('profile-scan'); text = profile_scan_usage
     case ('eigen'); text = eigen_usage
+    case ('critical-speed'); text = critical_speed_usage
     case ('campaign'); text = 'usage: raildyn campaign run|summary|decks CAMPAIGN.toml [options] ' // &
                               '(raildyn campaign --help: the options)'
     case ('export'); text = export_usage
@@ -368,6 +375,23 @@ contains
     if (progress >= 0) write (output_unit, '(2a)') 'raildyn: track alignment written to ', output
     status = 0
   end subroutine command_track
+  !> `critical-speed`: raildyn.stability, told to run this very runner for its probes
+  !> (eigen, run) with --exe.
+  subroutine command_critical_speed(args, status)
+    character(len=*), intent(in) :: args(:)
+    integer, intent(out) :: status
+    character(len=:), allocatable :: exe, forwarded(:)
+    integer :: i
+    exe = runner_path()
+    allocate (character(len=max(len(args), len(exe), 5)) :: forwarded(size(args) + 2))
+    forwarded(1) = '--exe'
+    forwarded(2) = exe
+    do i = 1, size(args)
+      forwarded(i + 2) = args(i)
+    end do
+    call command_python('raildyn.stability', forwarded, status)
+  end subroutine command_critical_speed
+
   !> Commands driven by the Python package: parametric campaigns (raildyn.campaign runs this
   !> executable once per parameter set, locally or as a Slurm job array), the CSV export
   !> of a results file (raildyn.export, h5py) and the assessment of a results file against

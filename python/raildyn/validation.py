@@ -44,6 +44,8 @@ import numpy as np
 
 from .executable import ExecutableNotFound, find_raildyn_executable
 from .results import Results
+# the growth-rate estimator is the product's (raildyn critical-speed --method bisection)
+from .stability import StabilityError, growth_rate, half_cycle_peaks
 
 REPO = Path(__file__).resolve().parents[2]
 INPUTS = REPO / "inputs"
@@ -293,51 +295,6 @@ def window_mean(t: np.ndarray, y: np.ndarray, t_from: float, t_to: float) -> flo
         raise CaseError(f"window [{t_from:g}, {t_to:g}] s holds fewer than 2 output points "
                         f"(results cover {t[0]:g} to {t[-1]:g} s)" if t.size else "no output rows")
     return float(np.mean(y[m]))
-
-
-def half_cycle_peaks(t: np.ndarray, y: np.ndarray, floor: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """Peaks of |y| in each half cycle: the largest |y| between consecutive sign changes of y
-    (the first and last, incomplete half cycles are dropped). Peaks below ``floor`` are
-    dropped (numerical noise once the motion has died out)."""
-    t = np.asarray(t, float)
-    y = np.asarray(y, float)
-    s = np.sign(y)
-    nz = np.flatnonzero(s != 0)
-    if nz.size < 2:
-        return np.empty(0), np.empty(0)
-    change = nz[1:][s[nz[1:]] != s[nz[:-1]]]        # first index of each new sign run
-    tp, ap = [], []
-    for a, b in zip(change[:-1], change[1:]):
-        k = a + int(np.argmax(np.abs(y[a:b])))
-        if abs(y[k]) > floor:
-            tp.append(t[k])
-            ap.append(abs(y[k]))
-    return np.array(tp), np.array(ap)
-
-
-#: Peaks below this [m] are not used for growth rates: 10 x the decks' absolute solver
-#: tolerance (atol = 1e-8 in state units), below which the integrator's error dominates.
-GROWTH_FLOOR = 1e-7
-
-
-def growth_rate(t: np.ndarray, y: np.ndarray, floor: float = GROWTH_FLOOR) -> tuple[float, int]:
-    """Exponential growth rate of the motion [1/s] (negative: decay). With at least 3 half-cycle
-    peaks above ``floor``: slope of the least-squares line through ln(peak) against the peak
-    times (the logarithmic decrement per half cycle over the half period). Otherwise (an
-    over-damped, non-oscillating motion): slope of ln|y| against t over the samples above the
-    floor. Returns (rate, number of peaks used; 0 for the second form). A motion that never
-    rises above the floor in the window is an error (no disturbance, or it died out before)."""
-    tp, ap = half_cycle_peaks(t, y, floor)
-    if tp.size >= 3:
-        slope = np.polyfit(tp, np.log(ap), 1)[0]
-        return float(slope), int(tp.size)
-    t = np.asarray(t, float)
-    a = np.abs(np.asarray(y, float))
-    m = a > floor
-    if m.sum() < 5:
-        raise CaseError(f"the motion stays below {floor:g} in the window: nothing to measure a "
-                        "growth rate on (no disturbance, or it died out before the window)")
-    return float(np.polyfit(t[m], np.log(a[m]), 1)[0]), 0
 
 
 def oscillation_wavelength(t: np.ndarray, y: np.ndarray, speed: float) -> float:
@@ -1504,7 +1461,7 @@ def evaluate_tgv(ctx: Context) -> None:
             raise CaseError(f"tgv_checks.csv: unknown kind {row['kind']!r} (check {row['id']})")
         try:
             kind(ctx, row)
-        except CaseError as exc:
+        except (CaseError, StabilityError) as exc:
             ctx.check(row["id"], False, None, "", "", f"not evaluated: {exc}")
     if not ctx.case.run:
         return
@@ -1677,7 +1634,7 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
         finally:
             if r is not None:
                 r.close()
-    except CaseError as exc:
+    except (CaseError, StabilityError) as exc:
         res.error = str(exc)
     except (KeyError, ValueError, OSError) as exc:
         res.error = f"{type(exc).__name__}: {exc}"

@@ -11,6 +11,7 @@ import pytest
 
 from raildyn import validation as V
 from raildyn.report import render_report
+from raildyn.stability import StabilityError
 
 pytestmark = pytest.mark.validation_rules
 
@@ -245,7 +246,7 @@ def test_growth_rate_overdamped_and_noise_floor():
     # decays below the floor half-way: only the samples above it count
     rate, npk = V.growth_rate(t, 1e-3 * np.exp(-5.0 * t))
     assert npk == 0 and rate == pytest.approx(-5.0, rel=1e-6)
-    with pytest.raises(V.CaseError, match="stays below"):
+    with pytest.raises(StabilityError, match="stays below"):    # the product's estimator
         V.growth_rate(t, np.zeros_like(t))
     # peaks below the floor (motion died out) are ignored
     y = 1e-3 * np.exp(-1.0 * t) * np.sin(2 * np.pi * 2 * t)

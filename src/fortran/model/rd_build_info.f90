@@ -4,7 +4,7 @@ module rd_build_info
   use, intrinsic :: iso_c_binding, only: c_char, c_int
   implicit none
   private
-  public :: python_command, shell_quote
+  public :: python_command, shell_quote, runner_path
 
   interface
     !> rd_executable_dir.c: the running executable's directory, 0 when unknown.
@@ -43,6 +43,21 @@ contains
     inquire (file=exe_dir(1:length) // '/' // python_package_dir_from_bin // '/raildyn/__init__.py', exist=installed)
     if (installed) dir = exe_dir(1:length) // '/' // python_package_dir_from_bin
   end function python_package_path
+
+  !> The running executable as a path another program can start (its directory from
+  !> /proc/self/exe, its name from the command line), so that the Python side of a command
+  !> runs this very runner; the command line's own argument 0 when the directory is unknown.
+  function runner_path() result(path)
+    character(len=:), allocatable :: path
+    character(kind=c_char, len=4096) :: exe_dir
+    character(len=4096) :: arg0
+    integer :: length
+    call get_command_argument(0, arg0)
+    path = trim(arg0)
+    length = rd_executable_dir(exe_dir, len(exe_dir))
+    if (length == 0) return
+    path = exe_dir(1:length) // '/' // path(index(path, '/', back=.true.) + 1:)
+  end function runner_path
 
   !> Single-quote a word for /bin/sh.
   pure function shell_quote(word) result(quoted)
