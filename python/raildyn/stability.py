@@ -22,7 +22,7 @@ import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -271,16 +271,19 @@ def mode_near(deck, speed: float, frequency_hz: float | None, exe=None) -> dict:
 
 
 def bisection_critical_speed(deck, lo: float, hi: float, resolution: float, channel: str, t_from: float,
-                             t_end: float, work: Path, exe=None, jobs: int = 1) -> CriticalSpeed:
+                             t_end: float, work: Path, exe=None, jobs: int = 1,
+                             probe: Callable[[float], dict] | None = None) -> CriticalSpeed:
     """The speed where the growth rate of a disturbed run changes sign (the deck disturbs the
     vehicle itself, e.g. a lateral force pulse): probes at lo and hi, then the bracket cut
     into jobs + 1 parts by ``jobs`` probes run in parallel, until it is at most 2 x
-    ``resolution`` wide."""
+    ``resolution`` wide. ``probe(speed)`` -> {"speed", "growth_rate", "peaks", ...} replaces
+    ``probe_growth`` (the validation harness runs its probes as its own cases' variants)."""
     probes: list[dict] = []
+    probe = probe or (lambda v: probe_growth(deck, v, channel, t_from, t_end, work, exe))
 
     def rates(speeds):
         with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-            got = list(pool.map(lambda v: probe_growth(deck, v, channel, t_from, t_end, work, exe), speeds))
+            got = list(pool.map(probe, speeds))
         probes.extend(got)
         return [p["growth_rate"] for p in got]
 
@@ -297,9 +300,7 @@ def bisection_critical_speed(deck, lo: float, hi: float, resolution: float, chan
         growing = [v for v, rate in zip(inner, rates(inner)) if rate > 0]
         below = [v for v in inner if v < (growing[0] if growing else b)]
         a, b = (below[-1] if below else a), (growing[0] if growing else b)
-    above = min((p for p in probes if p["speed"] >= b), key=lambda p: p["speed"])
-    return CriticalSpeed("bisection", 0.5 * (a + b), 0.5 * (b - a), (a, b), mode_near(deck, 0.5 * (a + b),
-                         above["frequency_hz"], exe), probes)
+    return CriticalSpeed("bisection", 0.5 * (a + b), 0.5 * (b - a), (a, b), None, probes)
 
 
 def ramp_critical_speed(deck, v_start: float, v_end: float, hold: float, duration: float, channel: str,
@@ -410,6 +411,11 @@ def main(argv: list[str] | None = None) -> int:
                 if args.method == "bisection":
                     answer = bisection_critical_speed(args.deck, lo, hi, args.resolution, channel, args.t_from,
                                                       args.t_end, work, args.exe, args.jobs)
+                    if answer.critical_speed is not None:
+                        # the mode shape at the crossing: the linear mode of the growing motion's frequency
+                        above = min((p for p in answer.probes if p["speed"] >= answer.bracket[1]),
+                                    key=lambda p: p["speed"])
+                        answer.mode = mode_near(args.deck, answer.critical_speed, above["frequency_hz"], args.exe)
                 else:
                     answer = ramp_critical_speed(args.deck, hi, lo, args.hold, args.duration, channel, work,
                                                  args.exe)

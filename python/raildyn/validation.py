@@ -45,7 +45,7 @@ import numpy as np
 from .executable import ExecutableNotFound, find_raildyn_executable
 from .results import Results
 # the growth-rate estimator is the product's (raildyn critical-speed --method bisection)
-from .stability import StabilityError, growth_rate, half_cycle_peaks
+from .stability import StabilityError, bisection_critical_speed, growth_rate, half_cycle_peaks
 
 REPO = Path(__file__).resolve().parents[2]
 INPUTS = REPO / "inputs"
@@ -1407,13 +1407,15 @@ def _kind_linear_critical_speed(ctx, row):
 
 
 def critical_speed_bisection(ctx: Context, row: dict) -> float:
-    """Bisection on the sign of the growth rate of wheelset 1's lateral motion between the
-    bracket speeds; returns the midpoint of the final bracket. Each probe is a run of the bogie
-    deck with &simulation speed and t_end overridden."""
+    """The product's bisection (raildyn.stability, ``raildyn critical-speed --method
+    bisection``) on the sign of the growth rate of wheelset 1's lateral motion between the
+    bracket speeds; returns the midpoint of the final bracket (a bracket end when the sign
+    does not change). Each probe is a variant run of the case (reused with --reuse), checked
+    for wheel forces, and the fastest one identifies the creep coefficients."""
     lo, hi = CRITICAL_SPEED_BRACKET
     rows = []
 
-    def rate_at(v: float) -> float:
+    def probe(v: float) -> dict:
         res = ctx.run_variant(f"v{v:.3f}", f"&simulation speed = {v:.6g}, t_end = {CRITICAL_SPEED_T_END:g} /")
         with res:
             missing = [w for w in deck_wheelsets(ctx.case.deck_path)
@@ -1431,22 +1433,18 @@ def critical_speed_bisection(ctx: Context, row: dict) -> float:
                                                                               res)
                 ctx.cache["creep_coefficients_speed"] = v
         rows.append([f"{v:.3f}", f"{rate:.4g}", npk, "growth" if rate > 0 else "decay"])
-        return rate
+        return {"speed": v, "growth_rate": rate, "peaks": npk}
 
-    if rate_at(lo) >= 0:
+    # resolution: the half-width, so that the final bracket is CRITICAL_SPEED_RESOLUTION wide
+    answer = bisection_critical_speed(ctx.case.deck_path, lo, hi, CRITICAL_SPEED_RESOLUTION / 2, row["channel"],
+                                      float(row["t_from"]), float(row["t_to"]), ctx.out_dir, ctx.exe, jobs=1,
+                                      probe=probe)
+    a, b = answer.bracket
+    if answer.critical_speed is None:
         ctx.result.tables.append(Table("Critical speed search", ["speed m/s", "growth rate 1/s", "peaks", ""], rows))
-        return lo
-    if rate_at(hi) <= 0:
-        ctx.result.tables.append(Table("Critical speed search", ["speed m/s", "growth rate 1/s", "peaks", ""], rows))
-        return hi
-    while hi - lo > CRITICAL_SPEED_RESOLUTION:
-        mid = 0.5 * (lo + hi)
-        if rate_at(mid) > 0:
-            hi = mid
-        else:
-            lo = mid
-    vc = 0.5 * (lo + hi)
-    ctx.result.tables.append(Table(f"Critical speed search: {vc:.2f} m/s (bracket {lo:.2f}-{hi:.2f} m/s)",
+        return a
+    vc = answer.critical_speed
+    ctx.result.tables.append(Table(f"Critical speed search: {vc:.2f} m/s (bracket {a:.2f}-{b:.2f} m/s)",
                                    ["speed m/s", "growth rate 1/s", "peaks", ""], rows))
     return vc
 
