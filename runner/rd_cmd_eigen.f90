@@ -11,7 +11,7 @@
 module rd_cmd_eigen
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use rd_kinds, only: wp
-  use rd_error, only: error_t, make_error, RD_ERR_IO
+  use rd_error, only: error_t, make_error, RD_ERR_IO, RD_ERR_INPUT
   use rd_scene, only: scene_t
   use rd_deck, only: deck_string_t
   use rd_linear_modes, only: linear_mode_t, linear_modes
@@ -64,6 +64,8 @@ contains
     if (status /= 0) return
     call start_scene(scene, deck, '', .false., error, restart=state_file, restart_row=state_row, &
                      check_results_path=.false.)
+    if (.not. allocated(error) .and. scene%state_size() == 0) &
+      call make_error(error, RD_ERR_INPUT, deck // ': no &body: a track alone has no modes to linearise')
     if (.not. allocated(error) .and. time > 0) call scene%advance(time, error)
     if (.not. allocated(error)) call select_states(scene, dofs, kept, error)
     if (.not. allocated(error)) call modes_at_speeds(scene, speeds, kept, locus, rest, rest_state, error)

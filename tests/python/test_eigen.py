@@ -188,6 +188,13 @@ def test_usage_and_input_errors(raildyn_exe, tmp_path, args, status, words):
     assert words in res.stderr and res.stdout == ""
 
 
+def test_track_alone_is_an_input_error(raildyn_exe, tmp_path):
+    deck = tmp_path / "track.nml"
+    deck.write_text("&simulation t_end = 1.0, speed = 10.0 /\n&segment type = 'straight', length = 100.0 /\n")
+    res = runner(raildyn_exe, "eigen", deck, expect=1)
+    assert "no &body: a track alone has no modes to linearise" in res.stderr
+
+
 def test_state_row_outside_the_file(raildyn_exe, tmp_path):
     runner(raildyn_exe, "run", CHAIN, "-o", tmp_path / "chain.h5", "--quiet")
     res = runner(raildyn_exe, "eigen", CHAIN, "--state", f"{tmp_path / 'chain.h5'}:9999", expect=1)
