@@ -5,6 +5,7 @@
 !>   raildyn track DECK [-o OUT.h5] [--step DS] [--csv OUT.csv] [--plot OUT.png]
 !>   raildyn profile-scan ...                             wheel-rail contact characteristics
 !>   raildyn eigen DECK [--speed V | --speeds ...] ...    linear modes, root locus
+!>   raildyn conicity --delta-r FILE --r0 R0 --e0 E0      EN 15302 conicity of a Delta r table
 !>   raildyn export RESULTS.h5 --csv DIR                  one CSV per series (raildyn.export)
 !>   raildyn assess RESULTS.h5 [--json] [--csv DIR] [--html DIR]   EN 14363 / EN 12299 (raildyn.assess)
 !>   raildyn hertz ... / raildyn creep ...                contact calculators

@@ -1,6 +1,7 @@
 !> JSON text for the runner's machine-readable answers (`raildyn check --json`, `raildyn
-!> eigen --json`): strings escaped as RFC 8259 requires, so that any path or message reads
-!> back unchanged; numbers with 17 significant digits, so that they read back exactly.
+!> eigen --json`, `raildyn conicity --json`): strings escaped as RFC 8259 requires, so that any
+!> path or message reads back unchanged; numbers with 17 significant digits, so that they read
+!> back exactly.
 module rd_json
   use rd_kinds, only: wp
   use rd_text, only: sci_text

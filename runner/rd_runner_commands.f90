@@ -10,6 +10,7 @@ module rd_runner_commands
   use rd_cmd_hertz, only: run_hertz_command, hertz_usage
   use rd_cmd_creep, only: run_creep_command, creep_usage
   use rd_cmd_profile_scan, only: run_profile_scan_command, profile_scan_usage
+  use rd_cmd_conicity, only: run_conicity_command, conicity_usage
   use rd_track_export, only: export_track
   use rd_build_info, only: python_command, shell_quote, runner_path
   use rd_json, only: json_string
@@ -32,6 +33,7 @@ module rd_runner_commands
     'usage: raildyn run DECK [-o OUT.h5] [--restart RESULTS.h5] [--progress|--quiet] | check DECK [--json] | ' // &
     'track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE] | profile-scan ... | eigen DECK ... | ' // &
     'critical-speed DECK --method linear|bisection|ramp ... | ' // &
+    'conicity ... | ' // &
     'campaign run|summary|decks CAMPAIGN.toml | export RESULTS.h5 --csv DIR | ' // &
     'assess RESULTS.h5 [--json] [--csv DIR] [--html DIR] | hertz ... | creep ... | ' // &
     'version | help [COMMAND]' // &
@@ -84,6 +86,8 @@ contains
       call run_eigen_command(args(2:), status)
     case ('critical-speed')
       call command_critical_speed(args(2:), status)
+    case ('conicity')
+      call run_conicity_command(args(2:), status)
     case ('campaign')
       call command_python('raildyn.campaign', args(2:), status)
     case ('export')
@@ -138,6 +142,7 @@ contains
     case ('profile-scan'); text = profile_scan_usage
     case ('eigen'); text = eigen_usage
     case ('critical-speed'); text = critical_speed_usage
+    case ('conicity'); text = conicity_usage
     case ('campaign'); text = 'usage: raildyn campaign run|summary|decks CAMPAIGN.toml [options] ' // &
                               '(raildyn campaign --help: the options)'
     case ('export'); text = export_usage

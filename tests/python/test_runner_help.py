@@ -5,7 +5,7 @@ import subprocess
 
 import pytest
 
-COMMANDS = ["run", "check", "track", "profile-scan", "eigen", "critical-speed", "campaign", "export", "assess",
+COMMANDS = ["run", "check", "track", "profile-scan", "eigen", "critical-speed", "conicity", "campaign", "export", "assess",
             "hertz", "creep", "version", "help"]
 
 

@@ -23,10 +23,9 @@ module rd_track_irregularity
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
   use rd_text, only: int_text, real_text
-  use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_IO
+  use rd_error, only: error_t, make_error, RD_ERR_INPUT
   use rd_cubic_spline, only: locate_interval
-  use rd_numeric_line, only: numeric_line_t, parse_numeric_line
-  use rd_line_reader, only: read_line
+  use rd_numeric_table, only: read_numeric_table
   implicit none
   private
   public :: track_irregularity_t, build_track_irregularity, read_irregularity_file
@@ -120,74 +119,20 @@ contains
     type(error_t), allocatable, intent(out) :: error
     integer, parameter :: ncol = 5
     character(len=*), parameter :: columns = '(sigma alignment level cross_level gauge, metres)'
-    character(len=4096) :: line
-    character(len=256) :: message
     real(wp), allocatable :: table(:, :)
-    real(wp) :: row(ncol)
-    integer :: unit, ios, line_no, n, ntok, last_line
-    type(numeric_line_t) :: info
+    integer, allocatable :: line_of(:)
+    integer :: i
 
-    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=message)
-    if (ios /= 0) then
-      call make_error(error, RD_ERR_IO, path // ': cannot open irregularity file (' // trim(message) // ')')
-      return
-    end if
-    allocate (table(ncol, 256))
-    n = 0
-    line_no = 0
-    last_line = 0
-    do
-      call read_line(unit, path, line_no, line, ios, error)
-      if (allocated(error)) then
-        close (unit); return
-      end if
-      if (ios /= 0) exit
-      call parse_numeric_line(line, row, info)
-      if (info%blank) cycle
-      if (info%bad_column > 0) then
-        if (info%bad_is_nonfinite) then
-          call fail(': column ' // trim(int_text(info%bad_column)) // ' is not finite (' // info%bad_token // ')')
-        else
-          call fail(': column ' // trim(int_text(info%bad_column)) // ' "' // info%bad_token // &
-                    '" is not a number; expected ' // trim(int_text(ncol)) // ' numbers ' // columns)
-        end if
+    call read_numeric_table(path, ncol, 'irregularity file', columns, 'sigma', 2, table, line_of, error)
+    if (allocated(error)) return
+    do i = 1, size(line_of)
+      if (any(abs(table(2:, i)) > IRREGULARITY_MAX_OFFSET)) then
+        call make_error(error, RD_ERR_INPUT, path // ':' // trim(int_text(line_of(i))) // ': ' // offset_message())
         return
       end if
-      ntok = info%n_tokens
-      if (ntok /= ncol) then
-        call fail(': ' // trim(int_text(ntok)) // ' columns, expected ' // trim(int_text(ncol)) // ' ' // columns)
-        return
-      end if
-      if (n > 0) then
-        if (.not. (row(1) > table(1, n))) then
-          call fail(': sigma ' // trim(real_text(row(1))) // ' m does not increase (line ' // trim(int_text(last_line)) // &
-                    ' has ' // trim(real_text(table(1, n))) // ' m); sigma must be strictly increasing')
-          return
-        end if
-      end if
-      if (any(abs(row(2:)) > IRREGULARITY_MAX_OFFSET)) then
-        call fail(': ' // offset_message())
-        return
-      end if
-      if (n == size(table, 2)) table = reshape(table, [ncol, 2 * n], pad=[0.0_wp])
-      n = n + 1
-      table(:, n) = row
-      last_line = line_no
     end do
-    close (unit)
-    if (n < 2) then
-      call make_error(error, RD_ERR_INPUT, path // ': ' // trim(int_text(n)) // ' data lines found, at least 2 are needed ' // &
-                      columns)
-      return
-    end if
-    sigma = table(1, 1:n)
-    values = table(2:ncol, 1:n)
-  contains
-    subroutine fail(what)
-      character(len=*), intent(in) :: what
-      close (unit)
-      call make_error(error, RD_ERR_INPUT, path // ':' // trim(int_text(line_no)) // what)
-    end subroutine fail
+    sigma = table(1, :)
+    values = table(2:ncol, :)
   end subroutine read_irregularity_file
 
   elemental logical function non_negative(x)
