@@ -5,5 +5,6 @@
 raildyn_fortran_library(rd_cmd_profile_scan
   ${CMAKE_CURRENT_LIST_DIR}/rd_cmd_profile_scan.f90
   ${CMAKE_CURRENT_LIST_DIR}/rd_cmd_conicity.f90
+  ${CMAKE_CURRENT_LIST_DIR}/rd_profile_curves_csv.f90
   ${CMAKE_CURRENT_LIST_DIR}/rd_json.f90
   DEPENDS rd_contact_geometry rd_hdf5 rd_model rd_common)

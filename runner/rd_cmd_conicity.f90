@@ -20,7 +20,7 @@ module rd_cmd_conicity
   use rd_text, only: int_text, real_text, fixed_text
   use rd_error, only: error_t, error_context
   use rd_delta_r_table, only: delta_r_table_t, read_delta_r_file
-  use rd_equivalent_conicity, only: kinematic_motion_t, en15302_conicity, largest_amplitude
+  use rd_equivalent_conicity, only: kinematic_motion_t, en15302_conicity, largest_amplitude, AMPLITUDE_ROUNDING
   implicit none
   private
   public :: run_conicity_command, conicity_usage, default_amplitudes
@@ -171,7 +171,7 @@ contains
     integer :: n, k
     a_max = largest_amplitude(table, error)
     if (allocated(error)) return
-    n = min(int(a_max / step * (1 + 1.0e-12_wp)), 400)
+    n = min(int(a_max / step * (1 + AMPLITUDE_ROUNDING)), 400)
     amplitudes = [(step * k, k=1, n)]
     if (n == 0) amplitudes = [a_max]
   end subroutine default_amplitudes

@@ -3,11 +3,15 @@
     python -m raildyn.plots track    track.h5  track.png      # alignment from `raildyn track`
     python -m raildyn.plots channels run.h5    run.png  [CHANNEL ...]
     python -m raildyn.plots root-locus locus.csv locus.png   # from `raildyn eigen --csv`
+    python -m raildyn.plots conicity c.csv c.png            # from `raildyn profile-scan --conicity-csv`
+    python -m raildyn.plots contact-points s.h5 s_profiles.csv s.png   # `profile-scan --contact-plot`
 
 ``track``: plan view (Y over X, equal axes, from the series ``track/position``) and every
 other ``track/...`` series over the file's axis (sigma). ``channels``: the given series or
 'path:component' columns (default all) over the axis, one panel each. ``root-locus``: the
 damping ratio and the frequency of every mode against the speed (neutral modes left out).
+``conicity``: equivalent conicity against amplitude by the three methods. ``contact-points``:
+wheel and rail profiles with lines joining their contact points for the scanned shifts.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from typing import Iterable
 
 from .results import Results
 
-__all__ = ["plot_channels", "plot_track", "plot_root_locus", "main"]
+__all__ = ["plot_channels", "plot_track", "plot_root_locus", "plot_conicity", "plot_contact_points", "main"]
 
 _MAX_PANELS = 24
 
@@ -169,6 +173,86 @@ def plot_root_locus(path: str | os.PathLike, out: str | os.PathLike) -> str:
     return os.fspath(out)
 
 
+def plot_conicity(path: str | os.PathLike, out: str | os.PathLike) -> str:
+    """Equivalent conicity against amplitude from ``raildyn profile-scan --conicity-csv``:
+    harmonic linearisation and EN 15302's integration (Klingel) and regression methods."""
+    import numpy as np
+    plt = _pyplot()
+    data = np.genfromtxt(path, delimiter=",", names=True)
+    if data.size == 0:
+        raise ValueError(f"{path}: no rows")
+    data = np.atleast_1d(data)
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for column, style, label in (("integration", "k-", "EN 15302 integration (Klingel)"),
+                                 ("regression", "b--", "EN 15302 regression"),
+                                 ("harmonic", "r:", "harmonic linearisation")):
+        ax.plot(data["amplitude_m"] * 1000, data[column], style, label=label)
+    ax.set_xlabel("amplitude [mm] (half the peak-to-peak kinematic motion)")
+    ax.set_ylabel("equivalent conicity [-]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(os.path.basename(os.fspath(path)), fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=90)
+    plt.close(fig)
+    return os.fspath(out)
+
+
+def plot_contact_points(scan_path: str | os.PathLike, curves_path: str | os.PathLike,
+                        out: str | os.PathLike, lines: int = 21, gap: float = 0.012) -> str:
+    """Wheel and rail profiles (``raildyn profile-scan --contact-plot``: the scan's HDF5 file and
+    its ``_profiles.csv``) with lines joining the contact points of the wheel and of the rail
+    for about ``lines`` of the scanned lateral shifts, one panel per side. The wheel is drawn
+    centred and lifted by ``gap`` [m] above the rail so that the lines show where each shift
+    touches: the upper end on the wheel profile, the lower end on the rail."""
+    import numpy as np
+    plt = _pyplot()
+    curves = np.genfromtxt(curves_path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    with Results(scan_path) as r:
+        shifts = r.time
+        sides = {side: (r.get(f"scan/{side}/n_patches")[:, 0], r.get(f"scan/{side}/patch1"))
+                 for side in ("left", "right")}
+    picked = np.unique(np.linspace(0, len(shifts) - 1, min(lines, len(shifts))).round().astype(int))
+    cmap = plt.get_cmap("coolwarm")
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5))
+    for ax, side in zip(axes, ("right", "left")):
+        n, patch = sides[side]
+        wheel = curves[(curves["side"] == side) & (curves["surface"] == "wheel")]
+        rail = curves[(curves["side"] == side) & (curves["surface"] == "rail")]
+        rail = rail[np.argsort(rail["y_m"])]          # the right rail's rows run towards -Y
+        order = np.argsort(wheel["profile_coordinate_m"])
+        s_sorted = wheel["profile_coordinate_m"][order]
+        ax.plot(rail["y_m"] * 1000, rail["z_m"] * 1000, "k-", lw=1.2, label="rail")
+        ax.plot(wheel["y_m"] * 1000, (wheel["z_m"] + gap) * 1000, "k-", lw=0.8,
+                label=f"wheel (centred, lifted {gap * 1000:g} mm)")
+        touched = []
+        for k in picked:
+            if n[k] < 1:
+                continue
+            s_wheel, y_rail = patch[k, 0], patch[k, 2]
+            yw = np.interp(s_wheel, s_sorted, wheel["y_m"][order])
+            zw = np.interp(s_wheel, s_sorted, wheel["z_m"][order]) + gap
+            zr = np.interp(y_rail, rail["y_m"], rail["z_m"])
+            colour = cmap((shifts[k] - shifts[0]) / max(shifts[-1] - shifts[0], 1e-12))
+            ax.plot([yw * 1000, y_rail * 1000], [zw * 1000, zr * 1000], "-", color=colour, lw=0.8)
+            ax.plot([yw * 1000, y_rail * 1000], [zw * 1000, zr * 1000], ".", color=colour, ms=3)
+            touched += [yw, y_rail]
+        if touched:
+            ax.set_xlim(min(touched) * 1000 - 25, max(touched) * 1000 + 25)
+            lo = np.interp(min(touched) - 0.025, rail["y_m"], rail["z_m"])
+            ax.set_ylim(min(rail["z_m"].min(), lo) * 1000 - 5, (gap + 0.04) * 1000)
+        ax.set_xlabel("Y, track frame [mm] (+ left)")
+        ax.set_ylabel("Z [mm]")
+        ax.set_title(f"{side} wheel and rail: contact points, shifts "
+                     f"{shifts[0] * 1000:g} .. {shifts[-1] * 1000:g} mm (blue .. red)", fontsize=8)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    fig.savefig(out, dpi=90)
+    plt.close(fig)
+    return os.fspath(out)
+
+
 def main(argv: list[str] | None = None) -> int:
     import argparse
     parser = argparse.ArgumentParser(prog="python -m raildyn.plots",
@@ -183,6 +267,14 @@ def main(argv: list[str] | None = None) -> int:
     p_locus = sub.add_parser("root-locus", help="modes against speed (from `raildyn eigen --csv`)")
     p_locus.add_argument("file")
     p_locus.add_argument("out")
+    p_con = sub.add_parser("conicity", help="conicity against amplitude (profile-scan --conicity-csv)")
+    p_con.add_argument("file")
+    p_con.add_argument("out")
+    p_cp = sub.add_parser("contact-points",
+                          help="profiles with contact-point lines (profile-scan --contact-plot: H5 and profiles CSV)")
+    p_cp.add_argument("file")
+    p_cp.add_argument("curves")
+    p_cp.add_argument("out")
     p_chan = sub.add_parser("channels", help="series over the file's axis")
     p_chan.add_argument("file")
     p_chan.add_argument("out")
@@ -193,6 +285,10 @@ def main(argv: list[str] | None = None) -> int:
             written = plot_track(args.file, args.out)
         elif args.command == "profile-scan":
             written = plot_profile_scan(args.file, args.out)
+        elif args.command == "conicity":
+            written = plot_conicity(args.file, args.out)
+        elif args.command == "contact-points":
+            written = plot_contact_points(args.file, args.curves, args.out)
         elif args.command == "root-locus":
             written = plot_root_locus(args.file, args.out)
         else:

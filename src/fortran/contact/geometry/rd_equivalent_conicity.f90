@@ -22,7 +22,12 @@ module rd_equivalent_conicity
   use rd_delta_r_table, only: delta_r_table_t
   implicit none
   private
-  public :: kinematic_motion_t, en15302_conicity, largest_amplitude
+  public :: kinematic_motion_t, en15302_conicity, largest_amplitude, AMPLITUDE_ROUNDING
+
+  !> Relative margin by which an amplitude may exceed the largest one the table supports and
+  !> still be computed (as that one): a table that is odd up to rounding (1e-15 m in Delta r)
+  !> reaches one end a few 1e-11 earlier than the other, and its end amplitude must not fail.
+  real(wp), parameter :: AMPLITUDE_ROUNDING = 1.0e-9_wp
 
   !> The kinematic motion of one amplitude and its two equivalent conicities.
   type :: kinematic_motion_t
@@ -80,7 +85,7 @@ contains
       return
     end if
     a_max = 0.5_wp * width(well, well%v_edge)
-    if (amplitude > a_max * (1 + 1.0e-12_wp)) then
+    if (amplitude > a_max * (1 + AMPLITUDE_ROUNDING)) then
       call make_error(error, RD_ERR_INPUT, 'amplitude ' // trim(real_text(amplitude)) // ' m: the kinematic ' // &
         'motion would leave the table (y from ' // trim(real_text(table%y(1))) // ' to ' // &
         trim(real_text(table%y(size(table%y)))) // ' m); the largest amplitude it supports is ' // &
