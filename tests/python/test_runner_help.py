@@ -5,8 +5,8 @@ import subprocess
 
 import pytest
 
-COMMANDS = ["run", "check", "track", "profile-scan", "eigen", "critical-speed", "conicity", "campaign", "export", "assess",
-            "hertz", "creep", "version", "help"]
+COMMANDS = ["run", "check", "track", "profile-scan", "eigen", "critical-speed", "conicity", "campaign", "export",
+            "assess", "hertz", "creep", "version", "help"]
 
 
 def runner(exe, *args, cwd=None):
