@@ -46,6 +46,7 @@ module rd_scene
   use rd_force_provider, only: force_provider_t
   use rd_external_loads, only: external_loads_t
   use rd_static_preload, only: solve_static_preloads, solve_static_positions
+  use rd_reference_radius, only: centred_rolling_radius
   use rd_level_straight_track, only: level_straight_track_t
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t, &
                            jacobian_sparsity_t
@@ -908,6 +909,13 @@ contains
     if (allocated(error)) return
     call check_rail_bodies(self%deck, bodies, self%frame_offsets, error)
     if (allocated(error)) return
+    ! the contact first: a wheelset's reference rolling radius comes from its geometry
+    if (self%deck%count('wheelset') > 0) then
+      call build_contact(self, error)
+      if (allocated(error)) return
+      call set_reference_radii(self, bodies, error)
+      if (allocated(error)) return
+    end if
     call self%deck%get('simulation', 1, 'gravity', gravity, error); if (allocated(error)) return
     allocate (self%mbs)
     call self%mbs%init(bodies, self%frame_offsets, self%track, self%speed, error, &
@@ -928,37 +936,9 @@ contains
     if (allocated(error)) return
     provider => self%loads
     call self%mbs%add_provider(provider)
-
-    if (self%deck%count('wheelset') > 0) then
-      block
-        type(wheelset_contact_spec_t), allocatable :: specs(:)
-        type(track_irregularity_t), allocatable :: irregularity
-        character(len=:), allocatable :: name
-        character(len=512), allocatable :: labels(:)
-        call build_wheelset_specs(self%deck, specs, error)
-        if (allocated(error)) return
-        ! profile files read here, so that their errors name the deck line and the wheelset
-        call load_wheelset_profiles(self%deck, specs, error)
-        if (allocated(error)) return
-        allocate (labels(size(specs)))
-        do i = 1, size(specs)
-          labels(i) = self%deck%origin('wheelset', i)
-        end do
-        allocate (self%contact)
-        call self%contact%init(specs, self%nbodies, error, labels)
-        if (allocated(error)) return
-        ! track irregularities displace the rails under every wheelset (rd_track_irregularity)
-        call build_scene_irregularity(self%deck, irregularity, error)
-        if (allocated(error)) return
-        if (allocated(irregularity)) call self%contact%set_irregularity(irregularity)
-        allocate (self%wheelset_names(size(specs)))
-        do i = 1, size(specs)
-          call self%deck%get('wheelset', i, 'name', name, error); if (allocated(error)) return
-          self%wheelset_names(i) = name
-        end do
-        provider => self%contact
-        call self%mbs%add_provider(provider)
-      end block
+    if (associated(self%contact)) then
+      provider => self%contact
+      call self%mbs%add_provider(provider)
     end if
 
     call self%deck%get('simulation', 1, 'equilibrium', self%equilibrium, error); if (allocated(error)) return
@@ -974,6 +954,68 @@ contains
     call self%deck%get('solver', 1, 'max_order', self%solver%max_order, error); if (allocated(error)) return
     call self%deck%get('solver', 1, 'jacobian', self%jacobian, error); if (allocated(error)) return
   end subroutine build_mechanics
+
+  !> The wheel-rail contact of every &wheelset (profiles, geometry, Hertz, creep law,
+  !> irregularities).
+  subroutine build_contact(self, error)
+    class(scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: error
+    type(wheelset_contact_spec_t), allocatable :: specs(:)
+    type(track_irregularity_t), allocatable :: irregularity
+    character(len=:), allocatable :: name
+    character(len=512), allocatable :: labels(:)
+    integer :: i
+    call build_wheelset_specs(self%deck, specs, error)
+    if (allocated(error)) return
+    ! profile files read here, so that their errors name the deck line and the wheelset
+    call load_wheelset_profiles(self%deck, specs, error)
+    if (allocated(error)) return
+    allocate (labels(size(specs)))
+    do i = 1, size(specs)
+      labels(i) = self%deck%origin('wheelset', i)
+    end do
+    allocate (self%contact)
+    call self%contact%init(specs, self%nbodies, error, labels)
+    if (allocated(error)) return
+    ! track irregularities displace the rails under every wheelset (rd_track_irregularity)
+    call build_scene_irregularity(self%deck, irregularity, error)
+    if (allocated(error)) return
+    if (allocated(irregularity)) call self%contact%set_irregularity(irregularity)
+    allocate (self%wheelset_names(size(specs)))
+    do i = 1, size(specs)
+      call self%deck%get('wheelset', i, 'name', name, error); if (allocated(error)) return
+      self%wheelset_names(i) = name
+    end do
+  end subroutine build_contact
+
+  !> Each wheelset body's reference rolling radius r0 (nominal spin V / r0): &wheelset
+  !> reference_radius when given, else computed from its contact geometry
+  !> (rd_reference_radius: the centred rolling radius of the profiles; knife edge:
+  !> nominal_radius).
+  subroutine set_reference_radii(self, bodies, error)
+    class(scene_t), intent(in) :: self
+    type(body_spec_t), intent(inout) :: bodies(:)
+    type(error_t), allocatable, intent(out) :: error
+    character(len=:), allocatable :: reason
+    integer :: w
+    do w = 1, size(self%contact%models)
+      associate (r0 => bodies(self%contact%models(w)%body)%r0)
+        if (self%deck%given('wheelset', w, 'reference_radius')) then
+          call self%deck%get('wheelset', w, 'reference_radius', r0, error)
+        else
+          call centred_rolling_radius(self%contact%models(w)%geo, r0, error)
+          if (allocated(error)) then
+            reason = error%message     ! (make_error deallocates error first)
+            call make_error(error, RD_ERR_INPUT, self%deck%origin('wheelset', w, 'reference_radius') // &
+              ': not given, and the centred rolling radius of the profiles failed (' // reason // &
+              '); expected profiles on which the centred wheelset touches both rails, or ' // &
+              'reference_radius in (0.2, 0.7) m')
+          end if
+        end if
+      end associate
+      if (allocated(error)) return
+    end do
+  end subroutine set_reference_radii
 
   !> Initial state: elements at their nominal length in the initial configuration,
   !> preloads for static equilibrium (thesis 5.2.1 d), then the integrator.

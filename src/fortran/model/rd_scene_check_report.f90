@@ -3,6 +3,10 @@
 !>
 !>   masses        each body's mass, the total and its weight
 !>   wheel loads   the static vertical wheel forces Q and their sum against the weight
+!>   reference radius  per wheelset, the reference rolling radius r0 of its nominal spin
+!>                 V / r0 and where it comes from (&wheelset reference_radius, the centred
+!>                 rolling radius of the profiles, or a knife edge's nominal_radius), with
+!>                 the tape-circle radius nominal_radius beside it
 !>   conicity      per wheelset, the rolling-radius difference of patch 1 with the wheelset
 !>                 shifted by +-CONICITY_SHIFT (roll held; lowered in steps of LOWERING_STEP
 !>                 until both wheels touch): lambda = (dr(+y) - dr(-y)) / (4 y),
@@ -19,6 +23,7 @@
 submodule (rd_scene) rd_scene_check_report
   use rd_text, only: fixed_text
   use rd_body_spec, only: DOF_Z
+  use rd_contact_geometry, only: CONTACT_MODEL_STRIP
   implicit none
 
   real(wp), parameter :: CONICITY_SHIFT = 0.003_wp   !< [m], the usual lateral amplitude
@@ -38,7 +43,8 @@ contains
     if (.not. self%initialized) return
     if (associated(self%mbs)) then
       text = text // masses(self) // nl
-      if (associated(self%contact)) text = text // wheel_loads(self) // nl // conicities(self) // nl
+      if (associated(self%contact)) text = text // wheel_loads(self) // nl // reference_radii(self) // nl // &
+                                           conicities(self) // nl
     end if
     text = text // curves(self)
     if (associated(self%mbs)) text = text // nl // equilibrium_moves(self)
@@ -85,6 +91,29 @@ contains
     text = text // '; sum ' // trim(fixed_text(1e-3_wp * total, 2)) // ' kN = ' // &
            trim(fixed_text(100 * total / weight, 1)) // ' % of the weight'
   end function wheel_loads
+
+  function reference_radii(self) result(text)
+    type(scene_t), intent(in) :: self
+    character(len=:), allocatable :: text
+    type(error_t), allocatable :: error
+    real(wp) :: tape
+    integer :: w
+    text = 'reference rolling radius r0 (nominal spin V / r0):'
+    do w = 1, size(self%wheelset_names)
+      if (w > 1) text = text // ';'
+      call self%deck%get('wheelset', w, 'nominal_radius', tape, error)
+      text = text // ' ' // trim(self%wheelset_names(w)) // ' ' // &
+             trim(fixed_text(self%mbs%bodies(self%contact%models(w)%body)%r0, 6)) // ' m ('
+      if (self%deck%given('wheelset', w, 'reference_radius')) then
+        text = text // 'reference_radius'
+      else if (self%contact%models(w)%geo%model == CONTACT_MODEL_STRIP) then
+        text = text // 'centred rolling radius of the profiles'
+      else
+        text = text // 'knife edge: nominal_radius'
+      end if
+      text = text // '; tape circle ' // trim(fixed_text(tape, 6)) // ' m)'
+    end do
+  end function reference_radii
 
   function conicities(self) result(text)
     type(scene_t), intent(inout) :: self

@@ -178,8 +178,9 @@ contains
                         name // "'")
         return
       end if
+      ! its reference rolling radius r0 needs the contact geometry: set by the scene
+      ! (rd_reference_radius) before the multibody system is built
       bodies(i)%is_wheelset = .true.
-      call deck%get('wheelset', j, 'nominal_radius', bodies(i)%r0, error); if (allocated(error)) return
     end do
   end subroutine build_bodies
 

@@ -384,8 +384,16 @@ contains
       path_param(pstr('rail_profile_right', 'right rail profile file or analytic keyword, in the ' // &
                       'same profile frame as a left one (docs/conventions.md Profiles)', &
                       cond='profile contact; default: rail_profile'), .true., 's1002|60e1|54e1'), &
-      preal('nominal_radius', 'm', 'nominal rolling radius', default=0.46_wp, min=0.2_wp, &
+      preal('nominal_radius', 'm', 'wheel radius at the tape circle, where the wheel profile''s ' // &
+            'radius increase F(s) is 0 (profile contact: places the wheel profile; knife edge: the ' // &
+            'cone radius at the contact point)', default=0.46_wp, min=0.2_wp, &
             max=0.7_wp, min_open=.true., max_open=.true.), &
+      preal('reference_radius', 'm', 'reference rolling radius r0: the wheelset starts rolling at ' // &
+            'the spin V / r0, and its pitch outputs are the deviation from it (docs/conventions.md)', &
+            min=0.2_wp, max=0.7_wp, min_open=.true., max_open=.true., &
+            cond='default: profile contact: the centred rolling radius of the profiles, the mean ' // &
+            'of the left and right rolling radii at y = 0 and zero yaw (as raildyn profile-scan); ' // &
+            'knife edge: nominal_radius; raildyn check prints it'), &
       preal('contact_distance', 'm', 'distance between nominal contact points (knife edge)', &
             default=1.5_wp, min=0.4_wp, max=3.0_wp, min_open=.true., max_open=.true.), &
       preal('conicity', '-', 'cone slope of the knife-edge wheels', default=0.05_wp, min=zero, &
