@@ -309,8 +309,7 @@ contains
       call report(error, status)
       return
     end if
-    show = progress == 1 .or. (progress == 0 .and. scene%progress_wanted() .and. &
-                               rd_stderr_is_terminal() /= 0)
+    show = progress == 1 .or. (progress == 0 .and. scene%progress_wanted(rd_stderr_is_terminal() /= 0))
     t_end = scene%end_time()
     ! Advance in chunks so that progress can be shown; the solution does not depend on
     ! the chunking (the integrators stop exactly at each chunk end, tested).

@@ -1226,13 +1226,18 @@ contains
     scene_running_speed = self%speed%speed(self%t)
   end function scene_running_speed
 
-  logical function scene_progress_wanted(self)
+  !> Whether raildyn run shows its progress line (&output progress): 'on' always, 'off'
+  !> never, 'auto' when its stderr is a terminal (`terminal`).
+  logical function scene_progress_wanted(self, terminal)
     class(scene_t), intent(in) :: self
+    logical, intent(in) :: terminal
     character(len=:), allocatable :: mode
     type(error_t), allocatable :: error
     call self%deck%get('output', 1, 'progress', mode, error)
-    scene_progress_wanted = .true.
-    if (.not. allocated(error)) scene_progress_wanted = mode /= 'off'
+    scene_progress_wanted = terminal
+    if (allocated(error)) return
+    if (mode == 'on') scene_progress_wanted = .true.
+    if (mode == 'off') scene_progress_wanted = .false.
   end function scene_progress_wanted
 
   pure integer function scene_state_size(self)

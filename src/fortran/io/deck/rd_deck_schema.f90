@@ -305,7 +305,9 @@ contains
                'sees every channel', &
                'vehicle|track|bodies|elements|wheelsets|patches|state|sensors', &
                default='vehicle|track|bodies|elements|wheelsets|patches|state|sensors'), &
-      pstr('progress', 'progress line on the terminal', default='auto', allowed='auto|on|off')])
+      pstr('progress', 'progress line of raildyn run on stderr: auto = when stderr is a terminal, ' // &
+           'on = always, off = never (raildyn run --progress and --quiet override it)', default='auto', &
+           allowed='auto|on|off')])
 
     call add_group(s, 'track', .false., 'track layout and rail geometry', [ &
       preal('gauge', 'm', 'track gauge', default=1.435_wp, min=0.5_wp, max=2.0_wp, min_open=.true.), &
@@ -466,7 +468,8 @@ contains
              cond='required for table; strictly increasing'), &
       parray('table_force', 'N', 'forces of the table', 0, &
              cond='required for table; same length as table_deflection'), &
-      preal('clearance', 'm', 'free play before the element engages', default=zero, min=zero), &
+      preal('clearance', 'm', 'free play before the element engages', default=zero, min=zero, &
+            cond='used by table only'), &
       preal('series_stiffness', 'N/m', 'stiffness in series with the damper', min=zero, &
             min_open=.true., cond='required for series_spring_damper')])
 
