@@ -210,6 +210,8 @@ MUTATIONS = {
     ("wheelset", "poisson"): ([], [("&wheelset", "poisson", "0.3")], False),
     ("wheelset", "fastsim_grid"): ([], [("&wheelset", "fastsim_grid", "12")], False),
     ("wheelset", "fastsim_bound"): ([], [("&wheelset", "fastsim_bound", "'elliptic'")], False),
+    ("wheelset", "fastsim_saturation_width"): ([], [("&wheelset", "fastsim_saturation_width", "0.5")], False),
+    ("wheelset", "normal_contact"): ([], [("&wheelset", "normal_contact", "'quasi_static'")], False),
     ("wheelset", "polach_ka"): ([("&wheelset", "creep_law", "'polach'")], [("&wheelset", "polach_ka", "0.5")], False),
     ("wheelset", "polach_ks"): ([("&wheelset", "creep_law", "'polach'")], [("&wheelset", "polach_ks", "0.5")], False),
     ("wheelset", "creep_velocity_min"): ([], [("&wheelset", "creep_velocity_min", "5.0")], False),

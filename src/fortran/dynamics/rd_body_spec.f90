@@ -26,6 +26,11 @@ module rd_body_spec
     real(wp) :: qdot0(6) = 0
     integer :: frame = 1                 !< index of the track frame the body is referred to
     logical :: frozen(6) = .false.       !< frozen coordinates keep q0 and leave the state
+    !> Quasi-static coordinates leave the state too, but follow the body's load: each
+    !> evaluation solves them for zero relative acceleration (their inertia neglected) and
+    !> gives them zero relative rate. Only a wheelset's z and roll (quasi-static normal
+    !> contact, docs/theory.md "Quasi-static normal contact").
+    logical :: quasi_static(6) = .false.
     logical :: is_wheelset = .false.
     real(wp) :: r0 = 0                   !< nominal rolling radius of a wheelset [m]
   end type body_spec_t
@@ -64,6 +69,13 @@ contains
     end if
     if (abs(spec%q0(DOF_ROLL)) >= 1.5_wp) then
       call make_error(error, RD_ERR_INPUT, who // ': initial roll must be well inside +-pi/2 (Z-X-Y angles are singular at 90 deg)'); return
+    end if
+    if (any(spec%quasi_static .and. spec%frozen)) then
+      call make_error(error, RD_ERR_INPUT, who // ': a coordinate cannot be both frozen and quasi-static'); return
+    end if
+    if (any(spec%quasi_static) .and. (.not. spec%is_wheelset .or. &
+        any(spec%quasi_static([1, 2, 4, 6])))) then
+      call make_error(error, RD_ERR_INPUT, who // ': only a wheelset''s z and roll can be quasi-static'); return
     end if
     if (spec%is_wheelset .and. .not. (spec%r0 > 0)) then
       call make_error(error, RD_ERR_INPUT, who // ': a wheelset needs a nominal rolling radius r0 > 0 m'); return

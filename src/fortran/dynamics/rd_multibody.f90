@@ -15,7 +15,10 @@
 !> x_el are the elements' internal states, element after element.
 !>
 !> Frozen coordinates are not in the state: they keep q0 and zero rate (a wheelset's frozen
-!> spin keeps beta = beta0, i.e. rolls at V/r0). Each body's generalized mass matrix is
+!> spin keeps beta = beta0, i.e. rolls at V/r0). Quasi-static coordinates (a wheelset's z and
+!> roll on quasi-static normal contact) are not in the state either: every evaluation solves
+!> them for zero relative acceleration, their inertia neglected, with zero relative rate
+!> (solve_quasi_static; docs/theory.md "Quasi-static normal contact"). Each body's generalized mass matrix is
 !> block-diagonal (m I, H^T J H) because the body frame sits at the CG, so the reduced
 !> system is solved body by body with at most 3x3 eliminations and no allocation.
 module rd_multibody
@@ -26,7 +29,7 @@ module rd_multibody
   use rd_ode_system, only: ode_system_t
   use rd_track_point, only: track_point_t, track_geometry_t
   use rd_speed_law, only: speed_law_t
-  use rd_body_spec, only: body_spec_t, validate_body_spec, DOF_PITCH
+  use rd_body_spec, only: body_spec_t, validate_body_spec, DOF_PITCH, DOF_Z, DOF_ROLL
   use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics, ground_kinematics, &
                                 angle_rate_matrix, angle_rate_matrix_dot, inverse_angle_rate, &
                                 frame_rate_shift
@@ -70,6 +73,14 @@ module rd_multibody
     type(body_kinematics_t), allocatable :: kin(:)
     type(body_load_t), allocatable :: loads(:)
     type(element_result_t), allocatable :: el_res(:)
+    !> Quasi-static coordinates: per body the chord Jacobian d(z'', roll'')/d(z, roll) of
+    !> the Newton solve, kept between evaluations (the state moves little between calls)
+    real(wp), allocatable :: qs_jacobian(:, :, :)
+    logical, allocatable :: qs_jacobian_valid(:)
+    logical :: has_quasi_static = .false.
+    !> hold the quasi-static coordinates where they are instead of solving them (the static
+    !> preload balance: the vehicle's preloads at its initial configuration, wheelsets held)
+    logical :: hold_quasi_static = .false.
   contains
     procedure :: init
     procedure :: add_element
@@ -133,7 +144,7 @@ contains
     n = 0
     do i = 1, size(bodies)
       do j = 1, 6
-        if (bodies(i)%frozen(j)) then
+        if (bodies(i)%frozen(j) .or. bodies(i)%quasi_static(j)) then
           self%free_index(j, i) = 0
         else
           n = n + 1
@@ -143,6 +154,10 @@ contains
     end do
     self%nfree = n
     self%nel_states = 0
+    self%has_quasi_static = any([(any(bodies(i)%quasi_static), i = 1, size(bodies))])
+    allocate (self%qs_jacobian(2, 2, size(bodies)), self%qs_jacobian_valid(size(bodies)))
+    self%qs_jacobian = 0
+    self%qs_jacobian_valid = .false.
     allocate (self%elements(0), self%providers(0), self%el_state_start(0), self%el_res(0))
     allocate (self%frames(size(frame_offsets)), self%kin(size(bodies)), self%loads(size(bodies)))
     call self%override%init(size(bodies))
@@ -161,6 +176,9 @@ contains
     if (allocated(self%kin)) deallocate (self%kin)
     if (allocated(self%loads)) deallocate (self%loads)
     if (allocated(self%el_res)) deallocate (self%el_res)
+    if (allocated(self%qs_jacobian)) deallocate (self%qs_jacobian)
+    if (allocated(self%qs_jacobian_valid)) deallocate (self%qs_jacobian_valid)
+    self%has_quasi_static = .false.
     self%track => null()
     self%sigma0 = 0
     self%gravity = standard_gravity
@@ -278,8 +296,8 @@ contains
     class(multibody_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
-    real(wp) :: v, vdot, s, q(6), qdot(6), c(6)
-    integer :: i, j, k
+    real(wp) :: v, vdot, s
+    integer :: i, k
     v = self%speed%speed(t)
     vdot = self%speed%acceleration(t)
     s = self%speed%distance(t)
@@ -287,6 +305,17 @@ contains
       self%frames(k) = self%track%evaluate(self%sigma0 + self%frame_offset(k) + s)
     end do
     do i = 1, size(self%bodies)
+      call body_kinematics(self, i, y, v, vdot, s)
+    end do
+  end subroutine evaluate_kinematics
+
+  !> Kinematics of body i from the state (frames already evaluated at the time of v, s).
+  subroutine body_kinematics(self, i, y, v, vdot, s)
+    class(multibody_t), intent(inout) :: self
+    integer, intent(in) :: i
+    real(wp), intent(in) :: y(:), v, vdot, s
+    real(wp) :: q(6), qdot(6), c(6)
+    integer :: j, k
       associate (b => self%bodies(i))
         q = b%q0
         do j = 1, 6
@@ -306,8 +335,7 @@ contains
         if (b%is_wheelset) qdot(DOF_PITCH) = qdot(DOF_PITCH) + v / b%r0
         call compute_body_kinematics(self%kin(i), self%frames(b%frame), v, vdot, q, qdot, b%is_wheelset)
       end associate
-    end do
-  end subroutine evaluate_kinematics
+  end subroutine body_kinematics
 
   !> y' = f(t, y): kinematics, loads (gravity, elements, providers, override), then the
   !> equations of motion body by body (docs/theory.md eqs. T1-T3, R1-R4).
@@ -318,8 +346,7 @@ contains
     real(wp), intent(out) :: ydot(:)
     type(error_t), allocatable, intent(out) :: error
     logical, intent(out) :: recoverable
-    integer :: i, e, k, n, b1, b2
-    type(body_kinematics_t) :: kg
+    integer :: i
     character(len=64) :: buf
     recoverable = .false.
     if (size(y) /= self%state_size() .or. size(ydot) /= size(y)) then
@@ -334,6 +361,231 @@ contains
         return
       end if
     end do
+    if (self%has_quasi_static .and. .not. self%hold_quasi_static) then
+      call solve_quasi_static(self, t, y, ydot, error, recoverable)
+      if (allocated(error)) return
+    end if
+    call accumulate_loads(self, t, y, ydot, error)
+    if (allocated(error)) return
+    do i = 1, size(self%bodies)
+      call body_equations(self, i, ydot)
+    end do
+    if (any(.not. ieee_is_finite(ydot))) then
+      write (buf, '(es12.5)') t
+      call make_error(error, RD_ERR_RUNTIME, 'multibody%rhs: NaN or Inf in the state derivative at t = ' // trim(buf) // ' s')
+    end if
+  end subroutine rhs
+
+  !> Quasi-static coordinates (a wheelset's z and roll on quasi-static normal contact):
+  !> solve them for zero relative acceleration, z'' = roll'' = 0 with the other
+  !> coordinates, all rates and the time given, by a chord Newton iteration. The 2x2
+  !> Jacobian per body comes from forward differences, all quasi-static bodies perturbed at
+  !> once (they load each other only through bodies held fixed here, so each body's block
+  !> is what a perturbation of that body alone gives); it is kept between evaluations and
+  !> refreshed when the iteration is slow. The solution stays in the body's q0, which is
+  !> the next evaluation's starting point. Why the coordinates are condensed at all:
+  !> docs/theory_flange_chatter.md section 9 (elastic wheelset contact modes on rigid track
+  !> couple into a friction flutter at a saturated flange contact).
+  subroutine solve_quasi_static(self, t, y, ydot, error, recoverable)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    real(wp), intent(inout) :: ydot(:)
+    type(error_t), allocatable, intent(out) :: error
+    logical, intent(out) :: recoverable
+    integer, parameter :: max_iterations = 200
+    !> Converged when the update is below 1e-13 (m, rad): on a Hertz stiffness of ~1e9 N/m
+    !> that is 1e-4 N, and ~5e-8 m/s^2 of noise between nearby evaluations, below 1e-3 of what
+    !> the integrator's difference quotients see: their increments are floored at 1e-10 in
+    !> scenes with quasi-static coordinates (rd_scene_jacobian; CVODE's rule alone goes down
+    !> to 1e-15, where a solve at 1e-13 m made 170 Newton failures in 0.3 s of the Manchester
+    !> scene).
+    real(wp), parameter :: tolerance = 1.0e-13_wp, jump_scale = 1.0e-7_wp
+    !> 0.01 m/s^2 (rad/s^2): ~20 N on a wheelset, 4e-4 of a Manchester wheel load
+    real(wp), parameter :: stuck_residual = 1.0e-2_wp
+    !> updates above this are large moves: the next iteration takes a fresh Jacobian
+    real(wp), parameter :: chord_limit = 1.0e-9_wp
+    !> largest update per iteration (z [m], roll [rad]): keeps a bad start on the rail
+    real(wp), parameter :: max_update(2) = [2.0e-4_wp, 2.0e-3_wp]
+    real(wp) :: r(2, size(self%bodies)), dp(2, size(self%bodies)), &
+                merit(size(self%bodies)), merit_new(size(self%bodies)), lambda(size(self%bodies)), &
+                start(2, size(self%bodies))
+    integer :: iteration, i, halvings
+    logical :: converged(size(self%bodies)), fresh, qs(size(self%bodies)), accepted(size(self%bodies))
+    character(len=32) :: buf
+    recoverable = .false.
+    qs = [(any(self%bodies(i)%quasi_static), i = 1, size(self%bodies))]
+    start = reshape([(self%bodies(i)%q0([DOF_Z, DOF_ROLL]), i = 1, size(self%bodies))], [2, size(self%bodies)])
+    fresh = any(qs .and. .not. self%qs_jacobian_valid)
+    dp = 0
+    call quasi_static_residual(self, t, y, ydot, r, error)
+    if (allocated(error)) return
+    merit = hypot(r(1, :), r(2, :))
+    do iteration = 1, max_iterations
+      if (fresh) then
+        call quasi_static_jacobian(self, t, y, ydot, r, error)
+        if (allocated(error)) return
+      end if
+      converged = .not. qs
+      do i = 1, size(self%bodies)
+        if (.not. qs(i)) cycle
+        dp(:, i) = newton_update(self%qs_jacobian(:, :, i), r(:, i))
+        dp(:, i) = max(-max_update, min(max_update, dp(:, i)))
+        ! below the tolerance, or cycling below jump_scale after several iterations: the
+        ! forces jump there by less than |J| jump_scale (the strip geometry's patch switches,
+        ! ~10-100 N on a wheelset), so no exact root exists and the point reached is kept;
+        ! likewise a residual below stuck_residual that the damped steps cannot reduce (a fold
+        ! of the balance, det J ~ 0, met at the tread / flange-root transition)
+        converged(i) = all(abs(dp(:, i)) <= tolerance) .or. (iteration > 8 .and. (all(abs(dp(:, i)) < jump_scale) &
+                       .or. merit(i) < stuck_residual))
+      end do
+      if (all(converged)) then
+        call shift_quasi_static(dp)
+        return
+      end if
+      ! damped Newton: halve a body's update while its residual does not fall (the residual
+      ! is only piecewise smooth: contact onset, patch splits, the creep law's saturation)
+      lambda = 1
+      accepted = .not. qs
+      call shift_quasi_static(dp)
+      do halvings = 0, 10
+        call quasi_static_residual(self, t, y, ydot, r, error)
+        if (allocated(error)) return
+        merit_new = hypot(r(1, :), r(2, :))
+        do i = 1, size(self%bodies)
+          if (accepted(i)) cycle
+          if (merit_new(i) <= (1 - 1.0e-4_wp * lambda(i)) * merit(i) .or. halvings == 10) then
+            accepted(i) = .true.
+          end if
+        end do
+        if (all(accepted)) exit
+        do i = 1, size(self%bodies)
+          if (accepted(i)) then
+            dp(:, i) = 0
+          else
+            lambda(i) = 0.5_wp * lambda(i)
+            dp(:, i) = -0.5_wp * dp(:, i)     ! back by half of what was applied
+          end if
+        end do
+        call shift_quasi_static(dp)
+        do i = 1, size(self%bodies)
+          if (.not. accepted(i)) dp(:, i) = -dp(:, i)
+        end do
+      end do
+      merit = merit_new
+      fresh = any(lambda < 1) .or. any(abs(dp) > chord_limit)
+    end do
+    ! not converged: back to where this evaluation started (a retry starts from there too)
+    call shift_quasi_static(start - reshape([(self%bodies(i)%q0([DOF_Z, DOF_ROLL]), i = 1, size(self%bodies))], &
+                                            [2, size(self%bodies)]))
+    write (buf, '(es12.5)') t
+    recoverable = .true.
+    call make_error(error, RD_ERR_RUNTIME, 'quasi-static normal contact did not converge at t = ' // trim(buf) // &
+                    ' s (a wheelset near lift-off or derailment)')
+
+  contains
+
+    !> Move every quasi-static body's (z, roll) by d and update their kinematics.
+    subroutine shift_quasi_static(d)
+      real(wp), intent(in) :: d(:, :)
+      integer :: k
+      do k = 1, size(self%bodies)
+        if (.not. qs(k)) cycle
+        self%bodies(k)%q0(DOF_Z) = self%bodies(k)%q0(DOF_Z) + d(1, k)
+        self%bodies(k)%q0(DOF_ROLL) = self%bodies(k)%q0(DOF_ROLL) + d(2, k)
+      end do
+      call update_quasi_static_kinematics(self, t, y)
+    end subroutine shift_quasi_static
+
+    !> Newton update -J^-1 r where the contact holds the wheelset (a lower wheelset is pushed
+    !> up harder: dz''/dz below -1e4 1/s^2, far above what the suspension alone gives, ~-1e3;
+    !> J need not be definite: at the tread / flange-root transition of S1002 on 60E1 the
+    !> contact's z-roll stiffness is indefinite); elsewhere (off the rail) a full step of the
+    !> height along its acceleration, i.e. towards the rail, roll kept.
+    pure function newton_update(jq, res) result(d)
+      real(wp), intent(in) :: jq(2, 2), res(2)
+      real(wp) :: d(2), det
+      det = jq(1, 1) * jq(2, 2) - jq(1, 2) * jq(2, 1)
+      if (jq(1, 1) < -1.0e4_wp .and. abs(det) > 1.0e-8_wp * (abs(jq(1, 1) * jq(2, 2)) + abs(jq(1, 2) * jq(2, 1)))) then
+        d = -[jq(2, 2) * res(1) - jq(1, 2) * res(2), jq(1, 1) * res(2) - jq(2, 1) * res(1)] / det
+      else
+        d = 0
+        if (res(1) /= 0) d(1) = sign(max_update(1), res(1))
+      end if
+    end function newton_update
+  end subroutine solve_quasi_static
+
+  !> z'' and roll'' (relative) of every quasi-static body at the current kinematics.
+  subroutine quasi_static_residual(self, t, y, ydot, r, error)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    real(wp), intent(inout) :: ydot(:)
+    real(wp), intent(out) :: r(:, :)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: i
+    r = 0
+    call accumulate_loads(self, t, y, ydot, error)
+    if (allocated(error)) return
+    do i = 1, size(self%bodies)
+      if (.not. any(self%bodies(i)%quasi_static)) cycle
+      call body_equations(self, i, ydot, quasi_static_free=.true.)
+      r(:, i) = [self%kin(i)%qddot(DOF_Z), self%kin(i)%qddot(DOF_ROLL)]
+    end do
+  end subroutine quasi_static_residual
+
+  !> Forward-difference chord Jacobian of the residual, one column (z, then roll) for all
+  !> quasi-static bodies at once.
+  subroutine quasi_static_jacobian(self, t, y, ydot, r, error)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:), r(:, :)
+    real(wp), intent(inout) :: ydot(:)
+    type(error_t), allocatable, intent(out) :: error
+    !> steps: 1e-8 m and 1e-8 rad, ~1e-4 of a Hertz approach, far above the geometry's noise
+    real(wp), parameter :: step = 1.0e-8_wp
+    integer, parameter :: dofs(2) = [DOF_Z, DOF_ROLL]
+    real(wp) :: rp(2, size(self%bodies))
+    integer :: c, i
+    do c = 1, 2
+      do i = 1, size(self%bodies)
+        if (any(self%bodies(i)%quasi_static)) self%bodies(i)%q0(dofs(c)) = self%bodies(i)%q0(dofs(c)) + step
+      end do
+      call update_quasi_static_kinematics(self, t, y)
+      call quasi_static_residual(self, t, y, ydot, rp, error)
+      do i = 1, size(self%bodies)
+        if (.not. any(self%bodies(i)%quasi_static)) cycle
+        self%bodies(i)%q0(dofs(c)) = self%bodies(i)%q0(dofs(c)) - step
+        self%qs_jacobian(:, c, i) = (rp(:, i) - r(:, i)) / step
+        self%qs_jacobian_valid(i) = .true.
+      end do
+      call update_quasi_static_kinematics(self, t, y)
+      if (allocated(error)) return
+    end do
+  end subroutine quasi_static_jacobian
+
+  !> Kinematics of the quasi-static bodies after their q0 changed.
+  subroutine update_quasi_static_kinematics(self, t, y)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    integer :: i
+    do i = 1, size(self%bodies)
+      if (any(self%bodies(i)%quasi_static)) &
+        call body_kinematics(self, i, y, self%speed%speed(t), self%speed%acceleration(t), self%speed%distance(t))
+    end do
+  end subroutine update_quasi_static_kinematics
+
+  !> Loads on every body at the current kinematics: gravity, force elements (their internal
+  !> states' rates go to ydot), providers and the run-time override.
+  subroutine accumulate_loads(self, t, y, ydot, error)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    real(wp), intent(inout) :: ydot(:)
+    type(error_t), allocatable, intent(out) :: error
+    integer :: i, e, k, n, b1, b2
+    type(body_kinematics_t) :: kg
     ! gravity (fixed frame, -Z)
     do i = 1, size(self%bodies)
       self%loads(i)%force = [0.0_wp, 0.0_wp, -self%bodies(i)%mass * self%gravity]
@@ -371,14 +623,7 @@ contains
     end do
     call self%override%add_forces(t, self%kin, self%loads, error)
     if (allocated(error)) return
-    do i = 1, size(self%bodies)
-      call body_equations(self, i, ydot)
-    end do
-    if (any(.not. ieee_is_finite(ydot))) then
-      write (buf, '(es12.5)') t
-      call make_error(error, RD_ERR_RUNTIME, 'multibody%rhs: NaN or Inf in the state derivative at t = ' // trim(buf) // ' s')
-    end if
-  end subroutine rhs
+  end subroutine accumulate_loads
 
   function name_of(self, i) result(name)
     class(multibody_t), intent(in) :: self
@@ -395,16 +640,24 @@ contains
   !>  T: m (w'' + A^T p'' + 2 Om x w' + Om' x w + Om x (Om x w)) = A^T F     (eq. 4.61)
   !>  R: (H^T J H) a'' = H^T [M_b - om x J om - J (B^T Om' - om_rel x B^T Om + H' a')]
   !>                     + H_att^T M_att,b                                   (eq. 4.62 corrected)
-  !> solved for the free coordinates with the frozen ones' accelerations prescribed.
-  subroutine body_equations(self, i, ydot)
+  !> solved for the free coordinates with the frozen ones' accelerations prescribed (zero
+  !> relative acceleration); quasi-static ones are prescribed too (their balance has been
+  !> solved), unless `quasi_static_free`, which gives their acceleration: the residual of
+  !> that balance.
+  subroutine body_equations(self, i, ydot, quasi_static_free)
     class(multibody_t), intent(inout) :: self
     integer, intent(in) :: i
     real(wp), intent(inout) :: ydot(:)
+    logical, intent(in), optional :: quasi_static_free
     real(wp) :: a(3, 3), om(3), al(3), a0(3), w(3), wd(3), wdd(3), f(3)
     real(wp) :: h(3, 3), hd(3, 3), hatt(3, 3), jm(3, 3), mgen(3, 3), g(3), mb(3), mab(3)
     real(wp) :: omb(3), omrel(3), btom(3), angd(3), angdd(3), acc_pres(3), cdot(6), ca(3)
-    logical :: free_ang(3)
+    logical :: free_ang(3), held(6)
     integer :: j, k
+    held = self%bodies(i)%frozen .or. self%bodies(i)%quasi_static
+    if (present(quasi_static_free)) then
+      if (quasi_static_free) held = self%bodies(i)%frozen
+    end if
     associate (b => self%bodies(i), kin => self%kin(i), ld => self%loads(i))
       a = kin%track%a
       om = kin%omega_frame
@@ -417,7 +670,7 @@ contains
       ! eq. 4.61: relative acceleration in track components (frozen translations: 0)
       wdd = f / b%mass - a0 - 2 * cross(om, wd) - cross(al, w) - cross(om, cross(om, w))
       do j = 1, 3
-        if (b%frozen(j)) wdd(j) = 0
+        if (held(j)) wdd(j) = 0
       end do
       kin%acc = matmul(a, a0 + wdd + 2 * cross(om, wd) + cross(al, w) + cross(om, cross(om, w)))
       ! rotation: Euler's equation in body components projected on the angles with H^T
@@ -437,7 +690,7 @@ contains
       if (b%is_wheelset) hatt(:, 3) = 0   ! axle-box loads do no work on the spin
       g = g + matmul(transpose(hatt), mab)
       mgen = matmul(transpose(h), matmul(jm, h))
-      free_ang = .not. b%frozen(4:6)
+      free_ang = .not. held(4:6)
       ! prescribed accelerations of frozen angles: 0; a wheelset's frozen spin rolls: dV/dt / r0
       acc_pres = 0
       if (b%is_wheelset) acc_pres(3) = kin%accel / b%r0

@@ -111,7 +111,11 @@ contains
     end do
     actual => mb%track
     mb%track => level
+    ! quasi-static coordinates (wheelset height and roll) stay at their initial values, like the
+    ! supported bodies' other coordinates: the balance is then affine in the preloads
+    mb%hold_quasi_static = .true.
     call balance_preloads(mb, t, y_level, residual, error, supported)
+    mb%hold_quasi_static = .false.
     mb%track => actual
     if (allocated(error)) call error_context(error, 'on level track')
   end subroutine solve_static_preloads

@@ -1113,7 +1113,10 @@ contains
     allocate (ydot(size(y)))
     actual => mbs%track
     if (on_level_track) mbs%track => level
+    ! the deck's configuration as it stands: quasi-static wheelsets are not moved to their balance
+    mbs%hold_quasi_static = .true.
     call mbs%rhs(0.0_wp, y, ydot, error, recoverable)
+    mbs%hold_quasi_static = .false.
     mbs%track => actual
     do e = 1, mbs%element_count()
       select type (el => mbs%elements(e)%e)

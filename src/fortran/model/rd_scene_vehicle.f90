@@ -7,7 +7,7 @@ module rd_scene_vehicle
   use rd_rotation, only: rot_x, rot_y, rot_z
   use rd_deck, only: deck_t, deck_string_t
   use rd_deck_text, only: append_string, real_to_str
-  use rd_body_spec, only: body_spec_t
+  use rd_body_spec, only: body_spec_t, DOF_Z, DOF_ROLL
   use rd_external_loads, only: external_loads_t, external_load_t, LOAD_FRAME_FIXED, &
                                LOAD_FRAME_TRACK, LOAD_FRAME_BODY
   use rd_force_element, only: force_element_t
@@ -84,7 +84,7 @@ contains
     type(error_t), allocatable, intent(out) :: error
     integer :: n, i, j, k, nframes, hops, ia
     integer, allocatable :: frame_of(:), owner(:)
-    character(len=:), allocatable :: name, frame
+    character(len=:), allocatable :: name, frame, normal_contact
     type(deck_string_t), allocatable :: frozen(:)
     real(wp), allocatable :: v(:)
     real(wp) :: offset, ixy, ixz, iyz
@@ -181,6 +181,16 @@ contains
       ! its reference rolling radius r0 needs the contact geometry: set by the scene
       ! (rd_reference_radius) before the multibody system is built
       bodies(i)%is_wheelset = .true.
+      call deck%get('wheelset', j, 'normal_contact', normal_contact, error); if (allocated(error)) return
+      if (normal_contact == 'quasi_static') then
+        if (bodies(i)%frozen(DOF_Z) .or. bodies(i)%frozen(DOF_ROLL)) then
+          call make_error(error, RD_ERR_INPUT, deck%origin('wheelset', j, 'normal_contact') // &
+                          ": quasi_static solves the z and roll of body '" // name // &
+                          "', which has one of them frozen; unfreeze them or use 'elastic'")
+          return
+        end if
+        bodies(i)%quasi_static([DOF_Z, DOF_ROLL]) = .true.
+      end if
     end do
   end subroutine build_bodies
 
@@ -600,6 +610,8 @@ contains
         w%creep_options%grid_ny = grid
         call deck%get('wheelset', i, 'fastsim_bound', text, error); if (allocated(error)) return
         w%creep_options%bound = text
+        call deck%get('wheelset', i, 'fastsim_saturation_width', w%creep_options%saturation_width, error)
+        if (allocated(error)) return
         call deck%get('wheelset', i, 'polach_ka', w%creep_options%polach_ka, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'polach_ks', w%creep_options%polach_ks, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'polach_friction_ratio', w%creep_options%polach_friction_ratio, error)

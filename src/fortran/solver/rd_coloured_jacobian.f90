@@ -38,6 +38,11 @@ module rd_coloured_jacobian
     integer, allocatable :: group_columns(:) !< (n) every column once, group after group
     integer, allocatable :: row_start(:)    !< (n + 1): column j may touch rows(row_start(j):row_start(j+1)-1)
     integer, allocatable :: rows(:)         !< row indices, ascending within a column
+    !> Absolute floor on the increments (state units), 0 = CVODE's rule alone. A system whose
+    !> right-hand side solves an inner equation (quasi-static coordinates, rd_multibody) is
+    !> smooth only down to that solve's rounding, ~1e-11 m/s^2 on a wheelset's acceleration;
+    !> CVODE's rule can perturb by 1e-15, where that noise swamps the derivative.
+    real(wp) :: min_increment = 0
   contains
     procedure :: in_pattern
     procedure :: nonzero_count
@@ -164,10 +169,13 @@ contains
     end if
   end function dq_minimum_increment
 
-  !> Increment of column j: max(sqrt(uround) |y_j|, min_inc / ewt_j) (cvLsDenseDQJac).
-  pure elemental real(wp) function dq_increment(yj, ewtj, min_inc) result(inc)
+  !> Increment of column j: max(sqrt(uround) |y_j|, min_inc / ewt_j) (cvLsDenseDQJac), and at
+  !> least `floor` (jacobian_sparsity_t%min_increment).
+  pure elemental real(wp) function dq_increment(yj, ewtj, min_inc, floor) result(inc)
     real(wp), intent(in) :: yj, ewtj, min_inc
+    real(wp), intent(in), optional :: floor
     inc = max(sqrt(epsilon(1.0_wp)) * abs(yj), min_inc / ewtj)
+    if (present(floor)) inc = max(inc, floor)
   end function dq_increment
 
   pure subroutine sort_ascending(a)

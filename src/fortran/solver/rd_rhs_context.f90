@@ -164,14 +164,14 @@ contains
       do g = 1, sp%n_groups
         do k = sp%group_start(g), sp%group_start(g + 1) - 1
           j = sp%group_columns(k)
-          y_work(j) = y(j) + dq_increment(y(j), ewt(j), min_inc)
+          y_work(j) = y(j) + dq_increment(y(j), ewt(j), min_inc, sp%min_increment)
         end do
         status = self%evaluate_rhs(t, y_work, f_work)
         self%rhs_evals_jacobian = self%rhs_evals_jacobian + 1
         if (status /= RHS_OK) return
         do k = sp%group_start(g), sp%group_start(g + 1) - 1
           j = sp%group_columns(k)
-          inc = dq_increment(y(j), ewt(j), min_inc)
+          inc = dq_increment(y(j), ewt(j), min_inc, sp%min_increment)
           do r = sp%row_start(j), sp%row_start(j + 1) - 1
             i = sp%rows(r)
             jac(i, j) = (f_work(i) - fy(i)) / inc

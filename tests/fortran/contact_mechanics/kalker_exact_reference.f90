@@ -24,7 +24,23 @@ module kalker_exact_reference
   use rd_kinds, only: wp, pi
   implicit none
   private
-  public :: kalker_exact_forces
+  public :: kalker_exact_forces, scene_patch_count, scene_name, scene, scene_grid, scene_is_flange
+
+  !> Contact patches of the TGV profile scenes (inputs/tgv_profile_fastsim.nml and
+  !> tgv_profile_polach.nml, window means t = 15-18 s of wheelsets/w1/<side>/patch1 in the runs
+  !> of 2026-11-21; G = 84 GPa, nu = 0.25, mu = 0.45): a, b [m], N [N], xi, eta, phi [1/m], and
+  !> the grid (nx, ny) of the exact solution. Shared by the tests that judge laws on them.
+  integer, parameter :: scene_patch_count = 4
+  character(len=*), parameter :: scene_name(scene_patch_count) = [character(len=24) :: &
+    'flange, Polach run', 'flange, FASTSIM run', 'tread, Polach run', 'tread, FASTSIM run']
+  real(wp), parameter :: scene(6, scene_patch_count) = reshape([ &
+    8.16e-3_wp, 2.22e-3_wp, 70976.0_wp, -6.80e-3_wp, 2.36e-3_wp, 0.990_wp, &
+    8.40e-3_wp, 1.73e-3_wp, 70110.0_wp, -4.88e-3_wp, 2.06e-3_wp, 0.839_wp, &
+    6.11e-3_wp, 4.61e-3_wp, 61809.0_wp, 2.61e-3_wp, 2.10e-3_wp, -0.020_wp, &
+    6.10e-3_wp, 4.70e-3_wp, 62452.0_wp, 3.36e-3_wp, 1.90e-3_wp, -0.020_wp], [6, scene_patch_count])
+  integer, parameter :: scene_grid(2, scene_patch_count) = reshape([40, 10, 40, 10, 20, 20, 20, 20], &
+                                                                   [2, scene_patch_count])
+  logical, parameter :: scene_is_flange(scene_patch_count) = [.true., .true., .false., .false.]
 
 contains
 

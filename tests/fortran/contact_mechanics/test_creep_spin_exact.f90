@@ -27,7 +27,8 @@ program test_creep_spin_exact
   use rd_creep_law
   use rd_creep_factory, only: make_creep_law
   use rd_kalker_coefficients, only: kalker_coefficients
-  use kalker_exact_reference, only: kalker_exact_forces
+  use kalker_exact_reference, only: kalker_exact_forces, scene_patch_count, scene_name, scene, scene_grid, &
+                                    scene_is_flange
   implicit none
   type(creep_law_options_t) :: options
   class(creep_law_t), allocatable :: fastsim, polach
@@ -46,16 +47,6 @@ program test_creep_spin_exact
     -93.36_wp, 0.0_wp, 0.0_wp, 0.0_wp, -86.34_wp, 0.1963_wp, 0.0_wp, -2.004_wp, -4.551e-3_wp, &
     -7668.0_wp, 0.0_wp, 0.0_wp, -14480.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, -7175.0_wp, 10.620_wp, &
     0.0_wp, -1982.0_wp, -4.172_wp, -6927.0_wp, -8196.0_wp, 3.598_wp], [3, 8])
-  ! scene patches: a, b [m], N [N], xi, eta, phi [1/m]; grid nx, ny of the exact solution
-  character(len=*), parameter :: scene_name(4) = [character(len=24) :: &
-    'flange, Polach run', 'flange, FASTSIM run', 'tread, Polach run', 'tread, FASTSIM run']
-  real(wp), parameter :: scene(6, 4) = reshape([ &
-    8.16e-3_wp, 2.22e-3_wp, 70976.0_wp, -6.80e-3_wp, 2.36e-3_wp, 0.990_wp, &
-    8.40e-3_wp, 1.73e-3_wp, 70110.0_wp, -4.88e-3_wp, 2.06e-3_wp, 0.839_wp, &
-    6.11e-3_wp, 4.61e-3_wp, 61809.0_wp, 2.61e-3_wp, 2.10e-3_wp, -0.020_wp, &
-    6.10e-3_wp, 4.70e-3_wp, 62452.0_wp, 3.36e-3_wp, 1.90e-3_wp, -0.020_wp], [6, 4])
-  integer, parameter :: scene_grid(2, 4) = reshape([40, 10, 40, 10, 20, 20, 20, 20], [2, 4])
-  logical, parameter :: is_flange(4) = [.true., .true., .false., .false.]
 
   failures = 0
 
@@ -87,7 +78,7 @@ program test_creep_spin_exact
 
   ! --- 3. the scene's patches
   print '(a)', 'patch                      |  exact Fx, Fy [N]   |  FASTSIM 10x10       |  Polach'
-  do i = 1, 4
+  do i = 1, scene_patch_count
     patch = contact_patch_t(a=scene(1, i), b=scene(2, i), normal_force=scene(3, i), shear_modulus=8.4e10_wp, &
                             poisson=0.25_wp, friction=0.45_wp)
     call kalker_exact_forces(patch%a, patch%b, patch%normal_force, patch%shear_modulus, patch%poisson, &
@@ -97,7 +88,7 @@ program test_creep_spin_exact
     call polach%compute(patch, creepage_t(xi=scene(4, i), eta=scene(5, i), phi=scene(6, i)), f_pol)
     print '(a24,3(a,2f10.0),a,2f7.3)', scene_name(i), ' | ', fx, fy, ' | ', f_fast%fx, f_fast%fy, ' | ', &
       f_pol%fx, f_pol%fy, ' | Polach/exact ', f_pol%fx / fx, f_pol%fy / fy
-    if (is_flange(i)) then
+    if (scene_is_flange(i)) then
       call near('FASTSIM Fx, ' // trim(scene_name(i)), f_fast%fx, fx, 0.15_wp, 0.0_wp)
       call near('FASTSIM Fy, ' // trim(scene_name(i)), f_fast%fy, fy, 0.15_wp, 0.0_wp)
       call near('Polach resultant, ' // trim(scene_name(i)), hypot(f_pol%fx, f_pol%fy), hypot(fx, fy), 0.10_wp, 0.0_wp)

@@ -14,6 +14,15 @@
 !> Traction bound: parabolic p = 2N/(pi a b)(1 - x^2/a^2 - y^2/b^2) (Kalker's choice,
 !> default) or elliptic (Hertz) p = 3N/(2 pi a b) sqrt(1 - x^2/a^2 - y^2/b^2).
 !> Spin moment Mz = sum (x p_y - y p_x) dA from the traction field. No allocation.
+!>
+!> Smooth clip (saturation_width w > 0; w = 0 is Kalker's sharp one): the clip |p| -> min(|p|, g)
+!> of each element has a kink where the element enters slip, and the sum of those kinks makes
+!> the forces piecewise smooth in the creepages, the load and the ellipse (many small kinks,
+!> docs/performance.md "Contact smoothness"). With w > 0 the clip is min's C1 (Huber) blend
+!> over u = |p|/g in [1 - w, 1 + w]: |p| -> g (u - (u - 1 + w)^2 / (4 w)), never above
+!> min(|p|, g) and equal to it outside the band; the forces become C1. Fully sliding and fully
+!> adhering elements are unchanged; in partial slip the traction is at most w/4 of the bound
+!> lower.
 module rd_creep_fastsim
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
@@ -30,6 +39,7 @@ module rd_creep_fastsim
     integer :: nx = 20
     integer :: ny = 20
     integer :: bound = BOUND_PARABOLIC
+    real(wp) :: saturation_width = 0.0_wp
   contains
     procedure :: compute => fastsim_compute
     procedure :: name => fastsim_name
@@ -47,6 +57,11 @@ contains
       call make_error(error, RD_ERR_INPUT, 'fastsim: grid must be between 1 and 100000 elements per direction')
       return
     end if
+    if (.not. (options%saturation_width >= 0.0_wp .and. options%saturation_width <= 0.5_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'fastsim: saturation width must be in [0, 0.5]')
+      return
+    end if
+    fastsim%saturation_width = options%saturation_width
     fastsim%nx = options%grid_nx
     fastsim%ny = options%grid_ny
     select case (trim(adjustl(options%bound)))
@@ -70,7 +85,7 @@ contains
     ! scratch stays fixed-size on the stack (no allocation); the last block may be partial.
     integer, parameter :: lanes = 16
     real(wp) :: c11, c22, c23, c33, a, b, g, l1, l2, l3, p_scale, dy, inv_a2, rate_eta, rate_spin
-    real(wp) :: half, step, x, rel, bound, t2, scale, fx, fy, mz
+    real(wp) :: half, step, x, rel, bound, t2, scale, fx, fy, mz, w, u
     real(wp), dimension(lanes) :: y, rel_y, aj, dx, rate_x, px, py, sx, sy, sm
     integer :: i, j, lane, first, nl
     logical :: elliptic
@@ -83,6 +98,7 @@ contains
     l2 = 8.0_wp * a / (3.0_wp * g * c22)
     l3 = pi * a * sqrt(a / b) / (4.0_wp * g * c23)
     elliptic = self%bound == BOUND_ELLIPTIC
+    w = self%saturation_width
     if (elliptic) then
       p_scale = patch%friction * 1.5_wp * patch%normal_force / (pi * a * b)
     else
@@ -122,6 +138,10 @@ contains
           ! written branch-free (scale = 1 in adhesion)
           t2 = px(lane)**2 + py(lane)**2
           scale = min(1.0_wp, bound / sqrt(max(t2, tiny(1.0_wp))))
+          if (w > 0.0_wp .and. bound > 0.0_wp) then
+            u = sqrt(t2) / bound
+            if (u > 1.0_wp - w .and. u < 1.0_wp + w) scale = (u - (u - 1.0_wp + w)**2 / (4.0_wp * w)) / u
+          end if
           px(lane) = px(lane) * scale
           py(lane) = py(lane) * scale
           sx(lane) = sx(lane) + px(lane)
@@ -148,6 +168,10 @@ contains
       name = 'fastsim ' // trim(grid) // ' elliptic bound'
     else
       name = 'fastsim ' // trim(grid) // ' parabolic bound'
+    end if
+    if (self%saturation_width > 0.0_wp) then
+      write (grid, '(f0.3)') self%saturation_width
+      name = name // ', smooth clip w = ' // trim(grid)
     end if
   end function fastsim_name
 end module rd_creep_fastsim

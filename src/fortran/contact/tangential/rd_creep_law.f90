@@ -38,6 +38,7 @@ module rd_creep_law
     integer :: grid_nx = 20                      !< FASTSIM elements per strip
     integer :: grid_ny = 20                      !< FASTSIM strips across the ellipse
     character(len=16) :: bound = 'parabolic'     !< FASTSIM traction bound: 'parabolic' | 'elliptic'
+    real(wp) :: saturation_width = 0.0_wp        !< FASTSIM: width w of the smooth clip (0 = Kalker's min)
     character(len=32) :: saturation = 'none'     !< linear: 'none' | 'shen_hedrick_elkins'
     real(wp) :: polach_ka = 1.0_wp               !< Polach 2005 reduction in the adhesion area, k_A
     real(wp) :: polach_ks = 1.0_wp               !< Polach 2005 reduction in the slip area, k_S

@@ -376,6 +376,9 @@ contains
       ref_param(pstr('right_rail_body', 'flexible track: the body that is the right rail (as ' // &
                      'left_rail_body)', default='none'), 'body', 'none'), &
       pstr('contact', 'contact model', default='profile', allowed='knife_edge|profile'), &
+      pstr('normal_contact', 'wheelset height and roll: elastic (integrated on the Hertz springs) or ' // &
+           'quasi_static (solved from their force balance at every evaluation; docs/theory.md)', &
+           default='elastic', allowed='elastic|quasi_static'), &
       path_param(pstr('wheel_profile', 'wheel profile file or analytic keyword', &
                       cond='required for profile contact'), .true., 's1002|60e1|54e1'), &
       path_param(pstr('rail_profile', 'rail profile file or analytic keyword', &
@@ -420,6 +423,9 @@ contains
       pint('fastsim_grid', '-', 'FASTSIM strips and elements per strip', 10, min=2, max=200), &
       pstr('fastsim_bound', 'FASTSIM traction bound', default='parabolic', &
            allowed='parabolic|elliptic'), &
+      preal('fastsim_saturation_width', '-', 'FASTSIM: width w of the smooth clip of each ' // &
+            'element''s traction onto the bound (0 = Kalker''s sharp clip; docs/theory_contact_mechanics.md)', &
+            default=zero, min=zero, max=0.5_wp), &
       preal('polach_ka', '-', 'Polach reduction in the adhesion area', default=1.0_wp, min=zero, &
             max=1.0_wp, min_open=.true.), &
       preal('polach_ks', '-', 'Polach reduction in the slip area', default=1.0_wp, min=zero, &
