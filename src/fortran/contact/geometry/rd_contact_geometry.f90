@@ -22,14 +22,17 @@ module rd_contact_geometry
   use rd_contact_patch, only: wheel_contact_t, mirror_wheel_contact
   use rd_strip_contact, only: strip_wheel_contact
   use rd_knife_edge_contact, only: knife_edge_t, knife_wheel_contact
+  use rd_contact_table, only: contact_table_t, contact_table_options_t, build_contact_table, table_wheel_contact
   implicit none
   private
-  public :: contact_geometry_t, CONTACT_MODEL_STRIP, CONTACT_MODEL_KNIFE_EDGE
-  public :: init_strip_contact, init_knife_edge_contact, wheelset_contact, wheel_contact
+  public :: contact_geometry_t, CONTACT_MODEL_STRIP, CONTACT_MODEL_KNIFE_EDGE, CONTACT_MODEL_TABLE
+  public :: init_strip_contact, init_knife_edge_contact, init_contact_table, wheelset_contact, wheel_contact
   public :: SIDE_LEFT, SIDE_RIGHT
 
   integer, parameter :: CONTACT_MODEL_STRIP = 1
   integer, parameter :: CONTACT_MODEL_KNIFE_EDGE = 2
+  !> profiles through pre-computed tables of the strip model (rd_contact_table)
+  integer, parameter :: CONTACT_MODEL_TABLE = 3
   integer, parameter :: SIDE_LEFT = 1, SIDE_RIGHT = 2
 
   type :: contact_geometry_t
@@ -44,6 +47,10 @@ module rd_contact_geometry
     logical :: own_wheel_right = .false.
     logical :: own_rail_right = .false.
     type(knife_edge_t) :: knife         !< knife-edge model
+    !> table model: tables of the left pair and, when the right side has its own surfaces,
+    !> of the right pair (mirrored frame); the surfaces above stay for the derailment checks
+    type(contact_table_t) :: table
+    type(contact_table_t) :: table_right
   end type contact_geometry_t
 
 contains
@@ -124,6 +131,32 @@ contains
     end if
   end subroutine check_overlap
 
+  !> Table model from an initialised strip model: tabulate each side's pair once
+  !> (rd_contact_table); the strip surfaces stay for the profile-based checks.
+  subroutine init_contact_table(geo, options, error)
+    type(contact_geometry_t), intent(inout) :: geo
+    type(contact_table_options_t), intent(in) :: options
+    type(error_t), allocatable, intent(out) :: error
+    if (geo%model /= CONTACT_MODEL_STRIP) then
+      call make_error(error, RD_ERR_INPUT, 'init_contact_table: contact tables need the profile (strip) model')
+      return
+    end if
+    call build_contact_table(geo%wheel, geo%rail, options, geo%table, error)
+    if (allocated(error)) return
+    if (geo%own_wheel_right .and. geo%own_rail_right) then
+      call build_contact_table(geo%wheel_right, geo%rail_right, options, geo%table_right, error)
+    else if (geo%own_wheel_right) then
+      call build_contact_table(geo%wheel_right, geo%rail, options, geo%table_right, error)
+    else if (geo%own_rail_right) then
+      call build_contact_table(geo%wheel, geo%rail_right, options, geo%table_right, error)
+    end if
+    if (allocated(error)) then
+      call error_context(error, 'right side')
+      return
+    end if
+    geo%model = CONTACT_MODEL_TABLE
+  end subroutine init_contact_table
+
   subroutine init_knife_edge_contact(geo, knife, error)
     type(contact_geometry_t), intent(out) :: geo
     type(knife_edge_t), intent(in) :: knife
@@ -165,6 +198,12 @@ contains
       end if
     case (CONTACT_MODEL_KNIFE_EDGE)
       call knife_wheel_contact(geo%knife, sgn * y, z, sgn * phi, sgn * psi, res)
+    case (CONTACT_MODEL_TABLE)
+      if (side == SIDE_LEFT .or. .not. (geo%own_wheel_right .or. geo%own_rail_right)) then
+        call table_wheel_contact(geo%table, sgn * y, z, sgn * phi, sgn * psi, res)
+      else
+        call table_wheel_contact(geo%table_right, sgn * y, z, sgn * phi, sgn * psi, res)
+      end if
     case default
       res%n_patches = 0
     end select

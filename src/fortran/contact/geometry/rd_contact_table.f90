@@ -1,0 +1,532 @@
+!> Pre-computed contact tables: a geometry provider that tabulates the strip model
+!> (rd_strip_contact) of one wheel/rail pair once and interpolates it in the right-hand
+!> side (docs/theory_contact_geometry.md, section "Contact tables").
+!>
+!> Table variables, per wheel (LEFT wheel model, the right one by mirroring as for strips):
+!>   u   = lateral displacement of the wheel's reference point (tape circle, lowest point of
+!>         the unrolled wheel) from its nominal place: u = y + y_tape (cos phi - 1) + r0 sin phi,
+!>   phi = roll (tilt of the wheel profile), at zero yaw.
+!> Writing the table over u instead of the wheelset's y removes the roll's lever arm: at
+!> fixed u only the small tilt of the profile depends on phi, so a few roll nodes suffice.
+!>
+!> Patch identity: the wheel profile is cut into a tread part and a flange part where its
+!> slope angle first exceeds `slot_angle` going from the tape circle towards the flange;
+!> each part is searched by the strip model on its own, which gives each slot a signed
+!> gap even where it does not touch (onset and loss of the flange patch are then a
+!> smooth sign change of its penetration, never a change of identity).
+!>
+!> Penetration model: per slot the table holds the height h of the reference point at which
+!> that part just touches the rail (root of the strip model's signed maximum penetration),
+!> and the patch data (points, contact angle, radius, curvatures) evaluated at the reference
+!> normal approach `reference_approach` below that height. At run time the slot's normal
+!> approach is the vertical overlap times the cosine of its contact angle,
+!>   delta = (h(u, phi) - Z_ref) cos(gamma),
+!> exact to first order in the approach (a vertical displacement dZ moves the wheel by
+!> dZ cos(gamma) along the contact normal).
+!>
+!> Interpolation: cubic Hermite in u with Fritsch-Carlson slopes (C1, no overshoot at the
+!> contact jumps), cubic Hermite in phi with central-difference slopes over the values
+!> interpolated at the roll nodes (C1). Roll beyond the table's range keeps the exact
+!> reference-point transformation and clamps only the tilt.
+module rd_contact_table
+  use rd_kinds, only: wp
+  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME
+  use rd_text, only: sci_text
+  use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t
+  use rd_contact_patch, only: contact_patch_t, wheel_contact_t, PATCH_TREAD, PATCH_FLANGE
+  use rd_strip_contact, only: strip_wheel_contact
+  implicit none
+  private
+  public :: contact_table_options_t, contact_table_t, build_contact_table, table_wheel_contact
+  public :: split_wheel_surface, TABLE_SLOTS, TABLE_SLOT_TREAD, TABLE_SLOT_FLANGE, TABLE_QUANTITIES
+
+  integer, parameter :: TABLE_SLOTS = 2
+  integer, parameter :: TABLE_SLOT_TREAD = 1, TABLE_SLOT_FLANGE = 2
+
+  ! tabulated quantities per node and slot
+  integer, parameter :: Q_HEIGHT = 1          !< touch height of the reference point [m]
+  integer, parameter :: Q_ANGLE = 2           !< contact angle [rad]
+  integer, parameter :: Q_RAIL_DY = 3         !< rail point Y minus reference point Y [m]
+  integer, parameter :: Q_RAIL_Z = 4          !< rail point Z [m]
+  integer, parameter :: Q_WHEEL_Y = 5         !< wheel point, intermediate frame y [m]
+  integer, parameter :: Q_WHEEL_Z = 6         !< wheel point, intermediate frame z [m]
+  integer, parameter :: Q_S_WHEEL = 7         !< wheel profile coordinate [m]
+  integer, parameter :: Q_U_RAIL = 8          !< rail profile coordinate [m]
+  integer, parameter :: Q_RADIUS = 9          !< rolling radius [m]
+  integer, parameter :: Q_CURV_WHEEL_ROLL = 10
+  integer, parameter :: Q_CURV_WHEEL_LAT = 11
+  integer, parameter :: Q_CURV_RAIL_LAT = 12
+  integer, parameter :: TABLE_QUANTITIES = 12
+
+  !> A slot whose part sees no rail at a node is placed this far below the other slot's
+  !> touch height (far from contact; only the interpolation's neighbourhood sees it) [m].
+  real(wp), parameter :: absent_gap = 1.0e-2_wp
+
+  !> What a table depends on besides the surfaces (all part of its cache key).
+  type :: contact_table_options_t
+    real(wp) :: shift_max = 0.02_wp            !< table covers u in [-shift_max, shift_max] [m]
+    real(wp) :: shift_step = 1.0e-4_wp         !< node spacing in u [m]
+    real(wp) :: roll_max = 0.03_wp             !< roll nodes in [-roll_max, roll_max] [rad]
+    integer :: roll_nodes = 25                 !< number of roll nodes (odd: 0 is a node)
+    real(wp) :: reference_approach = 2.0e-5_wp !< normal approach of the tabulated patch data [m]
+    real(wp) :: slot_angle = 0.2_wp            !< wheel slope angle of the tread/flange cut [rad]
+  end type contact_table_options_t
+
+  !> One wheel/rail pair (left-wheel model).
+  type :: contact_table_t
+    type(contact_table_options_t) :: options
+    real(wp) :: y_tape = 0, r0 = 0
+    real(wp) :: s_cut = 0                !< wheel profile coordinate of the tread/flange cut [m]
+    integer :: nu = 0, nphi = 0
+    real(wp) :: u0 = 0, du = 1, phi0 = 0, dphi = 1
+    !> values(iu, iphi, q, slot) and their u-derivatives (Fritsch-Carlson) [per m]
+    real(wp), allocatable :: values(:, :, :, :)
+    real(wp), allocatable :: slopes(:, :, :, :)
+  end type contact_table_t
+
+contains
+
+  !> Tabulate the strip model of `wheel` on `rail` (left side surfaces).
+  subroutine build_contact_table(wheel, rail, options, table, error)
+    type(wheel_surface_t), intent(in) :: wheel
+    type(rail_surface_t), intent(in) :: rail
+    type(contact_table_options_t), intent(in) :: options
+    type(contact_table_t), intent(out) :: table
+    type(error_t), allocatable, intent(out) :: error
+    type(wheel_surface_t) :: parts(TABLE_SLOTS)
+    logical, allocatable :: present_at(:, :, :)
+    integer :: iu, ip, slot, q, other
+    real(wp) :: u, phi, y, h, row(TABLE_QUANTITIES)
+    logical :: found
+
+    call check_options(options, error)
+    if (allocated(error)) return
+    table%options = options
+    table%y_tape = wheel%y_tape
+    table%r0 = wheel%nominal_radius
+    call split_wheel_surface(wheel, options%slot_angle, parts(TABLE_SLOT_TREAD), parts(TABLE_SLOT_FLANGE), &
+                             table%s_cut, error)
+    if (allocated(error)) then
+      call error_context(error, 'build_contact_table')
+      return
+    end if
+    table%nu = 2 * nint(options%shift_max / options%shift_step) + 1
+    table%du = options%shift_step
+    table%u0 = -(table%nu - 1) / 2 * table%du
+    table%nphi = options%roll_nodes
+    if (table%nphi > 1) then
+      table%dphi = 2 * options%roll_max / (table%nphi - 1)
+      table%phi0 = -options%roll_max
+    else
+      table%dphi = 1
+      table%phi0 = 0
+    end if
+    allocate (table%values(table%nu, table%nphi, TABLE_QUANTITIES, TABLE_SLOTS))
+    allocate (table%slopes(table%nu, table%nphi, TABLE_QUANTITIES, TABLE_SLOTS))
+    allocate (present_at(table%nu, table%nphi, TABLE_SLOTS))
+    table%values = 0
+    do ip = 1, table%nphi
+      phi = table%phi0 + (ip - 1) * table%dphi
+      do iu = 1, table%nu
+        u = table%u0 + (iu - 1) * table%du
+        y = u - table%y_tape * (cos(phi) - 1) - table%r0 * sin(phi)
+        do slot = 1, TABLE_SLOTS
+          call tabulate_node(parts(slot), rail, y, phi, table%y_tape, table%r0, options%reference_approach, &
+                             row, found, error)
+          if (allocated(error)) then
+            call error_context(error, 'build_contact_table: ' // trim(slot_name(slot)) // ' part at u = ' // &
+                               sci_text(u, 5) // ' m, roll = ' // sci_text(phi, 5) // ' rad')
+            return
+          end if
+          present_at(iu, ip, slot) = found
+          if (found) table%values(iu, ip, :, slot) = row
+        end do
+      end do
+    end do
+    ! a part without rail under it: far below the other part's touch height, the other
+    ! data from the nearest node where it has some (continuous, no force)
+    do slot = 1, TABLE_SLOTS
+      if (.not. any(present_at(:, :, slot))) then
+        call make_error(error, RD_ERR_INPUT, 'build_contact_table: the ' // trim(slot_name(slot)) // &
+                        ' part of the wheel never meets the rail within the table''s range')
+        return
+      end if
+      other = TABLE_SLOTS + 1 - slot
+      do ip = 1, table%nphi
+        do iu = 1, table%nu
+          if (present_at(iu, ip, slot)) cycle
+          if (.not. present_at(iu, ip, other)) then
+            call make_error(error, RD_ERR_INPUT, 'build_contact_table: no rail under the wheel at u = ' // &
+                            sci_text(table%u0 + (iu - 1) * table%du, 5) // ' m; expected a smaller shift range')
+            return
+          end if
+          h = table%values(iu, ip, Q_HEIGHT, other) - absent_gap
+          table%values(iu, ip, :, slot) = table%values(nearest_present(present_at(:, ip, slot), iu), ip, :, slot)
+          table%values(iu, ip, Q_HEIGHT, slot) = h
+        end do
+      end do
+    end do
+    do slot = 1, TABLE_SLOTS
+      do q = 1, TABLE_QUANTITIES
+        do ip = 1, table%nphi
+          call pchip_slopes(table%values(:, ip, q, slot), table%du, table%slopes(:, ip, q, slot))
+        end do
+      end do
+    end do
+  contains
+    pure integer function nearest_present(mask, i) result(j)
+      logical, intent(in) :: mask(:)
+      integer, intent(in) :: i
+      integer :: k
+      j = i
+      do k = 1, size(mask)
+        if (i - k >= 1) then
+          if (mask(i - k)) then
+            j = i - k; return
+          end if
+        end if
+        if (i + k <= size(mask)) then
+          if (mask(i + k)) then
+            j = i + k; return
+          end if
+        end if
+      end do
+    end function nearest_present
+  end subroutine build_contact_table
+
+  subroutine check_options(options, error)
+    type(contact_table_options_t), intent(in) :: options
+    type(error_t), allocatable, intent(out) :: error
+    if (.not. (options%shift_step >= 1.0e-6_wp .and. options%shift_step <= 1.0e-3_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'contact table: shift step must be in [1e-6, 1e-3] m')
+    else if (.not. (options%shift_max >= 10 * options%shift_step .and. options%shift_max <= 0.05_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'contact table: shift range must be in [10 shift steps, 0.05 m]')
+    else if (.not. (options%roll_max > 0 .and. options%roll_max <= 0.2_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'contact table: roll range must be in (0, 0.2] rad')
+    else if (options%roll_nodes < 3 .or. options%roll_nodes > 101 .or. mod(options%roll_nodes, 2) == 0) then
+      call make_error(error, RD_ERR_INPUT, 'contact table: roll nodes must be odd, 3..101')
+    else if (.not. (options%reference_approach > 0 .and. options%reference_approach <= 1.0e-3_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'contact table: reference approach must be in (0, 1e-3] m')
+    else if (.not. (options%slot_angle > 0.02_wp .and. options%slot_angle < 1.0_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'contact table: slot angle must be in (0.02, 1) rad')
+    end if
+  end subroutine check_options
+
+  !> The tread part (profile coordinate s >= s_cut) and the flange part (s <= s_cut) of a
+  !> left wheel surface; s_cut is the first point, going from the tape circle towards the
+  !> flange, where the radius grows faster than tan(slot_angle) per metre. Both parts hold
+  !> the cut point and keep the full surface's point slopes and curvatures.
+  !>
+  !> Beyond the cut each part continues as a cone receding at 45 degrees (radius falling
+  !> away from the cut): the strip model extends a surface past its last point at the
+  !> last radius, which for the flange part would be a cylinder at the cut's radius over
+  !> the tread, deeper in the rail than the real (lower) tread. A receding cone lies
+  !> inside the real wheel on both sides of the cut (the real radius falls more slowly
+  !> towards the tread and rises towards the flange), so a part never penetrates where the
+  !> real wheel does not.
+  subroutine split_wheel_surface(wheel, slot_angle, tread, flange, s_cut, error)
+    type(wheel_surface_t), intent(in) :: wheel
+    real(wp), intent(in) :: slot_angle
+    type(wheel_surface_t), intent(out) :: tread, flange
+    real(wp), intent(out) :: s_cut
+    type(error_t), allocatable, intent(out) :: error
+    !> length of the receding cone [m]: beyond the strip search's lateral margin (2 mm)
+    real(wp), parameter :: recede_length = 5.0e-3_wp
+    integer :: i, i0, icut, next
+    real(wp) :: h
+    ! the tape circle's point, then towards smaller s (the flange side of a left wheel)
+    i0 = minloc(abs(wheel%s), dim=1)
+    icut = 0
+    do i = i0, 1, -1
+      if (-wheel%slope(i) > tan(slot_angle)) then
+        icut = i
+        exit
+      end if
+    end do
+    if (icut < 3 .or. icut > wheel%n - 3) then
+      call make_error(error, RD_ERR_INPUT, 'split_wheel_surface: the wheel profile has no flange steeper than ' // &
+                      'the slot angle between the tape circle and the flange back')
+      return
+    end if
+    s_cut = wheel%s(icut)
+    h = wheel%y(icut + 1) - wheel%y(icut)
+    next = max(2, ceiling(recede_length / h))
+    call part(icut, wheel%n, -1, tread)
+    call part(1, icut, 1, flange)
+  contains
+    !> points i1..i2 of the wheel plus `next` receding points before i1 (dir = -1) or
+    !> after i2 (dir = 1)
+    subroutine part(i1, i2, dir, p)
+      integer, intent(in) :: i1, i2, dir
+      type(wheel_surface_t), intent(out) :: p
+      integer :: n, k, j, off
+      n = i2 - i1 + 1 + next
+      allocate (p%s(n), p%y(n), p%r(n), p%slope(n), p%kappa(n), p%cone_slope(n - 1))
+      off = merge(next, 0, dir < 0)
+      p%s(off + 1:off + i2 - i1 + 1) = wheel%s(i1:i2)
+      p%y(off + 1:off + i2 - i1 + 1) = wheel%y(i1:i2)
+      p%r(off + 1:off + i2 - i1 + 1) = wheel%r(i1:i2)
+      p%slope(off + 1:off + i2 - i1 + 1) = wheel%slope(i1:i2)
+      p%kappa(off + 1:off + i2 - i1 + 1) = wheel%kappa(i1:i2)
+      do k = 1, next
+        j = merge(off + 1 - k, i2 - i1 + 1 + k, dir < 0)
+        p%s(j) = wheel%s(icut) + dir * k * h
+        p%y(j) = wheel%y(icut) + dir * k * h
+        p%r(j) = wheel%r(icut) - k * h
+        p%slope(j) = -dir
+        p%kappa(j) = wheel%kappa(icut)
+      end do
+      p%n = n
+      do k = 1, n - 1
+        p%cone_slope(k) = (p%r(k + 1) - p%r(k)) / (p%y(k + 1) - p%y(k))
+      end do
+      p%r_max = maxval(p%r)
+      p%r_min = minval(p%r)
+      p%nominal_radius = wheel%nominal_radius
+      p%y_tape = wheel%y_tape
+    end subroutine part
+  end subroutine split_wheel_surface
+
+  !> One node of one part: the wheelset height at which the part just touches (secant
+  !> with bracketing on the signed maximum penetration, which is continuous and decreasing
+  !> in z), then its deepest patch at the reference normal approach.
+  subroutine tabulate_node(part, rail, y, phi, y_tape, r0, approach, row, found, error)
+    type(wheel_surface_t), intent(in) :: part
+    type(rail_surface_t), intent(in) :: rail
+    real(wp), intent(in) :: y, phi, y_tape, r0, approach
+    real(wp), intent(out) :: row(TABLE_QUANTITIES)
+    logical, intent(out) :: found
+    type(error_t), allocatable, intent(out) :: error
+    type(wheel_contact_t) :: res
+    real(wp) :: z_touch, z_eval, cosg, zref_offset, yref_offset
+    integer :: k, it
+    row = 0
+    call touch_height(part, rail, y, phi, z_touch, found, error)
+    if (allocated(error) .or. .not. found) return
+    ! lower by the reference approach along the normal (two passes: the angle is known
+    ! only once the patch is open)
+    cosg = 1
+    do it = 1, 2
+      z_eval = z_touch - approach / cosg
+      call strip_wheel_contact(part, rail, y, z_eval, phi, 0.0_wp, res)
+      if (res%n_patches == 0) then
+        call make_error(error, RD_ERR_RUNTIME, 'no patch opened below the touch height')
+        return
+      end if
+      k = maxloc(res%patch(1:res%n_patches)%penetration, dim=1)
+      cosg = max(cos(res%patch(k)%contact_angle), 0.05_wp)
+    end do
+    zref_offset = y_tape * sin(phi) - r0 * cos(phi)
+    yref_offset = y_tape * cos(phi) + r0 * sin(phi)
+    associate (p => res%patch(k))
+      row(Q_HEIGHT) = z_touch + zref_offset
+      row(Q_ANGLE) = p%contact_angle
+      row(Q_RAIL_DY) = p%point_rail(2) - (y + yref_offset)
+      row(Q_RAIL_Z) = p%point_rail(3)
+      row(Q_WHEEL_Y) = p%point_wheel(2)
+      row(Q_WHEEL_Z) = p%point_wheel(3)
+      row(Q_S_WHEEL) = p%s_wheel
+      row(Q_U_RAIL) = p%u_rail
+      row(Q_RADIUS) = p%rolling_radius
+      row(Q_CURV_WHEEL_ROLL) = p%curv_wheel_roll
+      row(Q_CURV_WHEEL_LAT) = p%curv_wheel_lat
+      row(Q_CURV_RAIL_LAT) = p%curv_rail_lat
+    end associate
+  end subroutine tabulate_node
+
+  !> Wheelset height z at which `part` touches the rail (signed maximum penetration 0).
+  !> found = .false. when no rail line lies under the part.
+  subroutine touch_height(part, rail, y, phi, z, found, error)
+    type(wheel_surface_t), intent(in) :: part
+    type(rail_surface_t), intent(in) :: rail
+    real(wp), intent(in) :: y, phi
+    real(wp), intent(out) :: z
+    logical, intent(out) :: found
+    type(error_t), allocatable, intent(out) :: error
+    real(wp), parameter :: tol = 1.0e-12_wp
+    real(wp) :: za, zb, ga, gb, zc, gc, step
+    integer :: it, side
+    found = .false.
+    za = part%nominal_radius * cos(phi)
+    ga = signed_depth(za)
+    if (ga <= -0.5_wp * huge(1.0_wp)) return
+    found = .true.
+    ! bracket: step by the depth itself (its slope in z is -cos(gamma), |.| <= 1), growing
+    step = ga
+    if (abs(step) < 1.0e-6_wp) step = sign(1.0e-6_wp, ga)
+    zb = za
+    gb = ga
+    do it = 1, 60
+      zb = za + step
+      gb = signed_depth(zb)
+      if (gb <= -0.5_wp * huge(1.0_wp)) then
+        step = 0.5_wp * step
+        cycle
+      end if
+      if (sign(1.0_wp, gb) /= sign(1.0_wp, ga) .or. gb == 0) exit
+      za = zb
+      ga = gb
+      step = 2 * step
+    end do
+    if (sign(1.0_wp, gb) == sign(1.0_wp, ga) .and. gb /= 0) then
+      call make_error(error, RD_ERR_RUNTIME, 'touch height not bracketed')
+      return
+    end if
+    ! Illinois regula falsi
+    side = 0
+    z = zb
+    do it = 1, 200
+      if (abs(zb - za) <= tol .or. gb == 0) exit
+      zc = (za * gb - zb * ga) / (gb - ga)
+      gc = signed_depth(zc)
+      if (gc == 0) then
+        za = zc; zb = zc; gb = 0
+        exit
+      end if
+      if (sign(1.0_wp, gc) == sign(1.0_wp, gb)) then
+        zb = zc; gb = gc
+        if (side == -1) ga = 0.5_wp * ga
+        side = -1
+      else
+        za = zb; ga = gb
+        zb = zc; gb = gc
+        side = 1
+      end if
+    end do
+    z = zb
+  contains
+    real(wp) function signed_depth(zz)
+      real(wp), intent(in) :: zz
+      type(wheel_contact_t) :: r
+      call strip_wheel_contact(part, rail, y, zz, phi, 0.0_wp, r)
+      signed_depth = r%max_penetration
+    end function signed_depth
+  end subroutine touch_height
+
+  !> Fritsch-Carlson slopes of a uniformly sampled function (C1 cubic Hermite without
+  !> overshoot: a slope is 0 at a local extremum of the data, else the harmonic mean of the
+  !> two secants).
+  pure subroutine pchip_slopes(f, h, d)
+    real(wp), intent(in) :: f(:), h
+    real(wp), intent(out) :: d(:)
+    integer :: n, i
+    real(wp) :: s1, s2
+    n = size(f)
+    if (n < 2) then
+      d = 0
+      return
+    end if
+    do i = 2, n - 1
+      s1 = (f(i) - f(i - 1)) / h
+      s2 = (f(i + 1) - f(i)) / h
+      if (s1 * s2 <= 0) then
+        d(i) = 0
+      else
+        d(i) = 2 * s1 * s2 / (s1 + s2)
+      end if
+    end do
+    ! ends: one-sided, three-point, limited as in Fritsch-Carlson
+    d(1) = end_slope((f(2) - f(1)) / h, (f(min(3, n)) - f(2)) / h)
+    d(n) = end_slope((f(n) - f(n - 1)) / h, (f(n - 1) - f(max(n - 2, 1))) / h)
+  contains
+    pure real(wp) function end_slope(s_near, s_far) result(e)
+      real(wp), intent(in) :: s_near, s_far
+      e = 1.5_wp * s_near - 0.5_wp * s_far
+      if (e * s_near <= 0) then
+        e = 0
+      else if (s_near * s_far <= 0 .and. abs(e) > 3 * abs(s_near)) then
+        e = 3 * s_near
+      end if
+    end function end_slope
+  end subroutine pchip_slopes
+
+  !> The left wheel's contact from the table for the wheelset pose (y, z, phi, psi). The
+  !> table is at zero yaw; the yaw enters through the exact position of the wheel's
+  !> reference point and a first-order lead correction (below).
+  !> Outside the table's shift range: no patch and max_penetration = -huge (the wheelset
+  !> provider reports it as "no rail under the wheel").
+  pure subroutine table_wheel_contact(table, y, z, phi, psi, res)
+    type(contact_table_t), intent(in) :: table
+    real(wp), intent(in) :: y, z, phi, psi
+    type(wheel_contact_t), intent(out) :: res
+    real(wp) :: u, zref, yref, xref, slope, lead, x, t, hb(4), v(TABLE_QUANTITIES), phic, s, pv(TABLE_QUANTITIES, 4), delta
+    real(wp) :: db(4)
+    integer :: iu, ip, k, slot, kk
+    res%n_patches = 0
+    res%max_penetration = -huge(1.0_wp)
+    if (.not. allocated(table%values)) return
+    ! the wheel's reference point (yaw and roll about the wheelset centre, exact)
+    yref = y + cos(psi) * (table%y_tape * cos(phi) + table%r0 * sin(phi))
+    xref = -sin(psi) * (table%y_tape * cos(phi) + table%r0 * sin(phi))
+    u = yref - table%y_tape
+    x = (u - table%u0) / table%du
+    if (x < 0 .or. x > table%nu - 1) return
+    iu = min(int(x) + 1, table%nu - 1)
+    t = x - (iu - 1)
+    ! cubic Hermite basis in u (values h00, h01; slopes h10, h11 times the step)
+    hb = [(2 * t - 3) * t * t + 1, t * t * (3 - 2 * t), ((t - 2) * t + 1) * t * table%du, t * t * (t - 1) * table%du]
+    phic = min(max(phi, table%phi0), table%phi0 + (table%nphi - 1) * table%dphi)
+    s = (phic - table%phi0) / table%dphi
+    ip = min(int(s) + 1, table%nphi - 1)
+    s = s - (ip - 1)
+    zref = z + table%y_tape * sin(phi) - table%r0 * cos(phi)
+    do slot = 1, TABLE_SLOTS
+      ! values at the roll nodes ip-1 .. ip+2 (clamped), interpolated in u
+      do k = 1, 4
+        kk = min(max(ip - 2 + k, 1), table%nphi)
+        pv(:, k) = hb(1) * table%values(iu, kk, :, slot) + hb(2) * table%values(iu + 1, kk, :, slot) + &
+                   hb(3) * table%slopes(iu, kk, :, slot) + hb(4) * table%slopes(iu + 1, kk, :, slot)
+      end do
+      ! Hermite in roll with central-difference slopes (one-sided at the table's ends)
+      db = [(2 * s - 3) * s * s + 1, s * s * (3 - 2 * s), ((s - 2) * s + 1) * s, s * s * (s - 1)]
+      v = db(1) * pv(:, 2) + db(2) * pv(:, 3) + db(3) * roll_slope(ip) + db(4) * roll_slope(ip + 1)
+      ! yaw: a rail line crossing a yawed cone of slope k = tan(gamma) at distance rho from
+      ! the axle is deepest rho k psi ahead of the wheel's lowest point, rho k^2 psi^2 / 2
+      ! deeper than at zero yaw (depth r(y - t psi) - sqrt(rho^2 + t^2), maximised in t):
+      ! the flange lead and its earlier touch (theory doc, "Contact tables")
+      slope = tan(v(Q_ANGLE))
+      lead = -v(Q_RADIUS) * slope * psi
+      delta = (v(Q_HEIGHT) + 0.5_wp * v(Q_RADIUS) * (slope * psi)**2 - zref) * cos(v(Q_ANGLE))
+      res%max_penetration = max(res%max_penetration, delta)
+      if (delta <= 0) cycle
+      res%n_patches = res%n_patches + 1
+      associate (p => res%patch(res%n_patches))
+        p%kind = merge(PATCH_TREAD, PATCH_FLANGE, slot == TABLE_SLOT_TREAD)
+        p%penetration = delta
+        p%contact_angle = v(Q_ANGLE)
+        p%normal = [0.0_wp, sin(v(Q_ANGLE)), cos(v(Q_ANGLE))]
+        p%point_rail = [xref + lead, yref + v(Q_RAIL_DY), v(Q_RAIL_Z)]
+        p%point_wheel = [lead, v(Q_WHEEL_Y), v(Q_WHEEL_Z)]
+        p%s_wheel = v(Q_S_WHEEL)
+        p%u_rail = v(Q_U_RAIL)
+        p%u_rail_min = v(Q_U_RAIL)
+        p%u_rail_max = v(Q_U_RAIL)
+        p%rolling_radius = v(Q_RADIUS)
+        p%curv_wheel_roll = v(Q_CURV_WHEEL_ROLL)
+        p%curv_wheel_lat = v(Q_CURV_WHEEL_LAT)
+        p%curv_rail_roll = 0
+        p%curv_rail_lat = v(Q_CURV_RAIL_LAT)
+        p%strip_length = 0
+        p%share = 1
+      end associate
+    end do
+  contains
+    pure function roll_slope(j) result(d)
+      integer, intent(in) :: j     ! roll node ip (k = 2) or ip + 1 (k = 3)
+      real(wp) :: d(TABLE_QUANTITIES)
+      integer :: kc, lo, hi
+      kc = j - ip + 2
+      lo = kc - 1; hi = kc + 1
+      if (j == 1) lo = kc
+      if (j == table%nphi) hi = kc
+      d = (pv(:, hi) - pv(:, lo)) / (hi - lo)
+    end function roll_slope
+  end subroutine table_wheel_contact
+
+  pure function slot_name(slot) result(name)
+    integer, intent(in) :: slot
+    character(len=:), allocatable :: name
+    name = merge('tread ', 'flange', slot == TABLE_SLOT_TREAD)
+  end function slot_name
+
+end module rd_contact_table
