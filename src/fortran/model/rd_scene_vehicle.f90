@@ -578,6 +578,9 @@ contains
           if (deck%given('wheelset', i, 'rail_profile_right')) &
             w%rail_profile_right = deck%path('wheelset', i, 'rail_profile_right')
         end if
+        call deck%get('wheelset', i, 'contact_geometry', text, error); if (allocated(error)) return
+        w%contact_geometry = text
+        call deck%get('wheelset', i, 'table_shift_step', w%table%shift_step, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'nominal_radius', w%nominal_radius, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'back_to_back', w%back_to_back, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'flange_back', w%flange_back, error); if (allocated(error)) return

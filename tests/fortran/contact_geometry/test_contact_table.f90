@@ -18,13 +18,28 @@ program test_contact_table
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
   use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, init_contact_table, wheel_contact, &
     SIDE_LEFT, SIDE_RIGHT
-  use rd_contact_table, only: contact_table_options_t
+  use rd_contact_table, only: contact_table_options_t, contact_table_t
+  use rd_contact_table_cache, only: obtain_contact_table
+  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
   use rd_contact_patch, only: wheel_contact_t, PATCH_TREAD
   use rd_rigid_contact, only: rigid_contact
   use geometry_test_support, only: check, failures
   use rd_sweep_smoothness, only: window_median, find_jumps_and_kinks, smoothness_feature_t
-  use test_files, only: reference_path
+  use test_files, only: reference_path, scratch_name
   implicit none
+  interface
+    function c_setenv(name, value, overwrite) result(status) bind(C, name='setenv')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: name(*), value(*)
+      integer(c_int), value :: overwrite
+      integer(c_int) :: status
+    end function c_setenv
+    function c_rmdir(path) result(status) bind(C, name='rmdir')
+      import :: c_int, c_char
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_int) :: status
+    end function c_rmdir
+  end interface
   type(profile_t) :: wprof, rprof
   type(error_t), allocatable :: error
   type(track_placement_t) :: pl
@@ -33,7 +48,11 @@ program test_contact_table
   type(contact_geometry_t) :: strip, table
   integer(8) :: c0, c1, rate
   real(wp) :: build_s
+  character(len=:), allocatable :: cache_dir
 
+  ! the table cache goes to a scratch directory of this test (removed at the end)
+  cache_dir = scratch_name('contact_table_cache', '')
+  if (c_setenv('RAILDYN_CACHE_DIR' // c_null_char, cache_dir // c_null_char, 1_c_int) /= 0) error stop 'setenv'
   call read_profile_file(reference_path('profiles/MBench_S1002_v3.prw'), PROFILE_WHEEL, wprof, error)
   if (allocated(error)) error stop error%message
   call read_profile_file(reference_path('profiles/MBench_UIC60_v3.prr'), PROFILE_RAIL, rprof, error)
@@ -51,6 +70,8 @@ program test_contact_table
   write (*, '(a,f6.2,a,i0,a,i0,a,es10.3,a)') 'table built in ', build_s, ' s: ', table%table%nu, ' shifts x ', &
     table%table%nphi, ' rolls, cut at s = ', table%table%s_cut, ' m'
 
+  call cache_checks(cache_dir)
+  if (c_rmdir(cache_dir // c_null_char) /= 0) call check(.false., 'cache directory empty at the end')
   call compare_with_strips()
   call flange_onset()
   call a22_through_table()
@@ -63,6 +84,60 @@ program test_contact_table
   write (*, '(a)') 'all contact-table checks passed'
 
 contains
+
+  !> The cache (rd_contact_table_cache) in a scratch directory: a built table is stored and
+  !> read back equal; a table with other inputs (another inclination) has another key and is
+  !> built, not read; a file under the right name holding another key, or cut short, is
+  !> not used (rebuilt, equal to the original build, and replaced).
+  subroutine cache_checks(dir)
+    character(len=*), intent(in) :: dir
+    type(contact_table_t) :: t1, t2, t3
+    type(contact_geometry_t) :: other
+    type(track_placement_t) :: pl2
+    logical :: hit
+    character(len=:), allocatable :: file1, file2
+    integer :: unit, ios
+    integer(1), allocatable :: bytes(:)
+    integer :: nbytes
+    call obtain_contact_table(strip%wheel, strip%rail, topt, t1, error, from_cache=hit, path=file1)
+    if (allocated(error)) error stop error%message
+    call check(hit .and. index(file1, dir) == 1, 'cache: the table built at the start is read from the cache directory')
+    call check(all(t1%values == table%table%values) .and. all(t1%slopes == table%table%slopes), &
+               'cache: the table read back equals the one built')
+    pl2 = pl
+    pl2%inclination = 0.05_wp
+    call init_strip_contact(other, wprof, rprof, pl2, opt, error)
+    if (allocated(error)) error stop error%message
+    call obtain_contact_table(other%wheel, other%rail, topt, t2, error, from_cache=hit, path=file2)
+    if (allocated(error)) error stop error%message
+    call check(.not. hit .and. file2 /= file1, 'cache: another inclination has another key and is built')
+    call check(any(abs(t2%values - t1%values) > 1.0e-6_wp), 'cache: ... and gives another table')
+    ! the other table's file under the first table's name: its key does not match
+    open (newunit=unit, file=file2, access='stream', form='unformatted', status='old', action='read')
+    inquire (unit=unit, size=nbytes)
+    allocate (bytes(nbytes))
+    read (unit) bytes
+    close (unit)
+    open (newunit=unit, file=file1, access='stream', form='unformatted', status='replace', action='write')
+    write (unit) bytes
+    close (unit)
+    call obtain_contact_table(strip%wheel, strip%rail, topt, t3, error, from_cache=hit)
+    if (allocated(error)) error stop error%message
+    call check(.not. hit .and. all(t3%values == t1%values), 'cache: a file holding another key is not used (rebuilt)')
+    ! cut short: header intact, data missing
+    open (newunit=unit, file=file1, access='stream', form='unformatted', status='replace', action='write')
+    write (unit) bytes(1:200)
+    close (unit)
+    call obtain_contact_table(strip%wheel, strip%rail, topt, t3, error, from_cache=hit)
+    if (allocated(error)) error stop error%message
+    call check(.not. hit .and. all(t3%values == t1%values), 'cache: a truncated file is not used (rebuilt)')
+    call obtain_contact_table(strip%wheel, strip%rail, topt, t3, error, from_cache=hit)
+    call check(hit, 'cache: the rebuilt table replaced the bad file')
+    open (newunit=unit, file=file1, status='old', iostat=ios)
+    if (ios == 0) close (unit, status='delete')
+    open (newunit=unit, file=file2, status='old', iostat=ios)
+    if (ios == 0) close (unit, status='delete')
+  end subroutine cache_checks
 
   !> Wheelset height at which the left wheel of `geo` touches (signed max penetration 0).
   real(wp) function touch_z(geo, y, phi, psi) result(z)

@@ -22,7 +22,8 @@ module rd_contact_geometry
   use rd_contact_patch, only: wheel_contact_t, mirror_wheel_contact
   use rd_strip_contact, only: strip_wheel_contact
   use rd_knife_edge_contact, only: knife_edge_t, knife_wheel_contact
-  use rd_contact_table, only: contact_table_t, contact_table_options_t, build_contact_table, table_wheel_contact
+  use rd_contact_table, only: contact_table_t, contact_table_options_t, table_wheel_contact
+  use rd_contact_table_cache, only: obtain_contact_table
   implicit none
   private
   public :: contact_geometry_t, CONTACT_MODEL_STRIP, CONTACT_MODEL_KNIFE_EDGE, CONTACT_MODEL_TABLE
@@ -131,8 +132,9 @@ contains
     end if
   end subroutine check_overlap
 
-  !> Table model from an initialised strip model: tabulate each side's pair once
-  !> (rd_contact_table); the strip surfaces stay for the profile-based checks.
+  !> Table model from an initialised strip model: each side's pair tabulated once
+  !> (rd_contact_table) or read from the table cache (rd_contact_table_cache); the strip
+  !> surfaces stay for the profile-based checks.
   subroutine init_contact_table(geo, options, error)
     type(contact_geometry_t), intent(inout) :: geo
     type(contact_table_options_t), intent(in) :: options
@@ -141,14 +143,14 @@ contains
       call make_error(error, RD_ERR_INPUT, 'init_contact_table: contact tables need the profile (strip) model')
       return
     end if
-    call build_contact_table(geo%wheel, geo%rail, options, geo%table, error)
+    call obtain_contact_table(geo%wheel, geo%rail, options, geo%table, error)
     if (allocated(error)) return
     if (geo%own_wheel_right .and. geo%own_rail_right) then
-      call build_contact_table(geo%wheel_right, geo%rail_right, options, geo%table_right, error)
+      call obtain_contact_table(geo%wheel_right, geo%rail_right, options, geo%table_right, error)
     else if (geo%own_wheel_right) then
-      call build_contact_table(geo%wheel_right, geo%rail, options, geo%table_right, error)
+      call obtain_contact_table(geo%wheel_right, geo%rail, options, geo%table_right, error)
     else if (geo%own_rail_right) then
-      call build_contact_table(geo%wheel, geo%rail_right, options, geo%table_right, error)
+      call obtain_contact_table(geo%wheel, geo%rail_right, options, geo%table_right, error)
     end if
     if (allocated(error)) then
       call error_context(error, 'right side')

@@ -30,7 +30,8 @@ module rd_wheelset_contact
   use rd_body_kinematics, only: body_kinematics_t
   use rd_force_provider, only: force_provider_t, body_load_t
   use rd_contact_patch, only: contact_patch_t, wheel_contact_t, PATCH_FLANGE_SPRING
-  use rd_contact_geometry, only: contact_geometry_t, wheelset_contact, CONTACT_MODEL_STRIP, SIDE_LEFT, SIDE_RIGHT
+  use rd_contact_geometry, only: contact_geometry_t, wheelset_contact, CONTACT_MODEL_STRIP, CONTACT_MODEL_TABLE, &
+    SIDE_LEFT, SIDE_RIGHT
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration
   use rd_creepage, only: creepage_t, creepages_from_velocities
   use rd_creep_law, only: creep_law_t, creep_force_t, creep_patch_t => contact_patch_t
@@ -161,7 +162,7 @@ contains
       m%v0 = spec%creep_v0
       m%liftoff_limit = spec%liftoff_limit
       m%flange_stiffness = spec%knife_flange_stiffness
-      if (m%geo%model == CONTACT_MODEL_STRIP) then
+      if (m%geo%model == CONTACT_MODEL_STRIP .or. m%geo%model == CONTACT_MODEL_TABLE) then
         m%s_flange_tip = [flange_tip_coordinate(m%geo, SIDE_LEFT), flange_tip_coordinate(m%geo, SIDE_RIGHT)]
         m%s_field_end = [field_end_coordinate(m%geo, SIDE_LEFT), field_end_coordinate(m%geo, SIDE_RIGHT)]
       end if
@@ -475,7 +476,7 @@ contains
       call make_error(error, RD_ERR_RUNTIME, 'non-finite contact force (NaN or Inf)')
       return
     end if
-    if (m%geo%model == CONTACT_MODEL_STRIP) then
+    if (m%geo%model == CONTACT_MODEL_STRIP .or. m%geo%model == CONTACT_MODEL_TABLE) then
       if (wc%max_penetration <= -0.5_wp * huge(1.0_wp)) then
         call make_error(error, RD_ERR_PHYSICS, 'derailment: no rail under the wheel')
         return

@@ -12,7 +12,8 @@ module rd_wheelset_contact_spec
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
   use rd_knife_edge_contact, only: knife_edge_t
   use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, init_knife_edge_contact, &
-                                 SIDE_LEFT, SIDE_RIGHT
+                                 init_contact_table, SIDE_LEFT, SIDE_RIGHT
+  use rd_contact_table, only: contact_table_options_t
   use rd_hertz, only: hertz_params_t, hertz_init
   use rd_creep_law, only: creep_law_t, creep_law_options_t
   use rd_creep_factory, only: make_creep_law
@@ -38,6 +39,10 @@ module rd_wheelset_contact_spec
     !> gets the reaction of the wheel's contact force.
     integer :: rail_body(2) = 0
     character(len=16) :: model = 'profile'           !< 'profile' (strips) | 'knife_edge'
+    !> profile model: 'strips' (online strip search) | 'table' (pre-computed tables of it,
+    !> rd_contact_table, with `table` options)
+    character(len=16) :: contact_geometry = 'strips'
+    type(contact_table_options_t) :: table
     !> profiles: a file path (SIMPACK .prw/.prr or table) or 's1002' / '60e1' / '54e1'.
     !> Ignored when the corresponding *_data profile is given (points allocated).
     character(len=:), allocatable :: wheel_profile
@@ -101,6 +106,11 @@ contains
     else if (trim(spec%model) /= 'profile' .and. trim(spec%model) /= 'knife_edge') then
       call make_error(error, RD_ERR_INPUT, 'wheelset contact: contact model "' // trim(spec%model) // &
                       '" unknown; expected ' // CONTACT_MODEL_NAMES)
+    else if (trim(spec%contact_geometry) /= 'strips' .and. trim(spec%contact_geometry) /= 'table') then
+      call make_error(error, RD_ERR_INPUT, 'wheelset contact: contact geometry "' // trim(spec%contact_geometry) // &
+                      '" unknown; expected ''strips'' or ''table''')
+    else if (trim(spec%contact_geometry) == 'table' .and. trim(spec%model) /= 'profile') then
+      call make_error(error, RD_ERR_INPUT, 'wheelset contact: contact_geometry = ''table'' needs profile contact')
     else if (.not. (spec%friction >= 0 .and. spec%friction < 5)) then
       call make_error(error, RD_ERR_INPUT, 'wheelset contact: friction coefficient must be in [0, 5)')
     else if (.not. (spec%contact_damping >= 0 .and. spec%contact_damping < 1.0e12_wp)) then
@@ -209,6 +219,8 @@ contains
       else
         call init_strip_contact(geo, wheel, rail, placement, spec%surface, error, rail_precant_right=precant_right)
       end if
+      ! the provider: online strips, or tables of them (one line, the rest is shared)
+      if (.not. allocated(error) .and. trim(spec%contact_geometry) == 'table') call init_contact_table(geo, spec%table, error)
     end if
     if (allocated(error)) call error_context(error, 'build_contact_geometry')
   end subroutine build_contact_geometry

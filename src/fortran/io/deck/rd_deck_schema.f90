@@ -379,6 +379,11 @@ contains
       pstr('normal_contact', 'wheelset height and roll: elastic (integrated on the Hertz springs) or ' // &
            'quasi_static (solved from their force balance at every evaluation; docs/theory.md)', &
            default='elastic', allowed='elastic|quasi_static'), &
+      pstr('contact_geometry', 'profile contact geometry: the strip search online, or pre-computed ' // &
+           'tables of it (docs/theory_contact_geometry.md section 10)', default='strips', allowed='strips|table', &
+           cond='profile contact'), &
+      preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift', default=1.0e-4_wp, &
+            min=1.0e-6_wp, max=1.0e-3_wp, cond='contact_geometry = table'), &
       path_param(pstr('wheel_profile', 'wheel profile file or analytic keyword', &
                       cond='required for profile contact'), .true., 's1002|60e1|54e1'), &
       path_param(pstr('rail_profile', 'rail profile file or analytic keyword', &

@@ -1,0 +1,62 @@
+"""Contact tables in a scene (`&wheelset contact_geometry = 'table'`): the TGV 001 vehicle
+with S1002 / 60E1 profiles (inputs/tgv_profile_fastsim.nml), 6 s (straight track and the
+start of the transition), run once on the online strips and once on tables of them.
+
+Oracle: the strip run (the model the tables tabulate, at other poses than the nodes).
+Bounds: the differences measured when the tables were introduced (0.54 mm lateral shift,
+0.46 kN lateral and 0.64 kN vertical wheel force, on 64-68 kN wheel loads), rounded up; they
+come from the table's interpolation and its one patch per slot (docs/theory_contact_geometry.md
+section 10). The four wheelsets share one table: one file in the cache directory, which the
+test points to its own tmp_path (RAILDYN_CACHE_DIR)."""
+import os
+import subprocess
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[2]
+EXE = Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build")).resolve() / "bin" / "raildyn"
+WHEELSETS = ("w1", "w2", "w3", "w4")
+
+
+def run(tmp_path, name, extra, cache):
+    deck = tmp_path / f"{name}.nml"
+    deck.write_text(f"&include file = '{REPO / 'inputs' / 'tgv_profile_fastsim.nml'}' /\n"
+                    "&simulation t_end = 6.0 /\n" + extra)
+    env = dict(os.environ, RAILDYN_CACHE_DIR=str(cache))
+    res = subprocess.run([str(EXE), "run", str(deck), "-o", str(tmp_path / f"{name}.h5"), "--quiet"],
+                         capture_output=True, text=True, timeout=600, env=env)
+    assert res.returncode == 0, res.stderr
+    return h5py.File(tmp_path / f"{name}.h5", "r")
+
+
+def test_scene_on_tables_follows_the_strips(tmp_path):
+    cache = tmp_path / "cache"
+    tables = "".join(f"&wheelset name = '{w}', contact_geometry = 'table' /\n" for w in WHEELSETS)
+    strips = run(tmp_path, "strips", "", cache)
+    assert not cache.exists() or not any(cache.iterdir()), "the strip run builds no table"
+    table = run(tmp_path, "tables", tables, cache)
+    assert len(list(cache.glob("contact-table-*.bin"))) == 1, "one table for four equal wheelsets"
+    for ws in ("ws1", "ws2", "ws3", "ws4"):
+        ys, yt = strips[f"bodies/{ws}/position_track"][:, 1], table[f"bodies/{ws}/position_track"][:, 1]
+        assert np.all(np.isfinite(yt))
+        assert np.abs(ys - yt).max() < 0.7e-3, ws
+    for w in WHEELSETS:
+        for side in ("left", "right"):
+            fs, ft = strips[f"wheelsets/{w}/{side}/wheel"][()], table[f"wheelsets/{w}/{side}/wheel"][()]
+            assert np.abs(fs[:, 2] - ft[:, 2]).max() < 550.0, (w, side, "Y")
+            assert np.abs(fs[:, 3] - ft[:, 3]).max() < 750.0, (w, side, "Q")
+            assert fs[:, 3].min() > 50e3 and ft[:, 3].min() > 50e3
+    # a second run reads the cached table and gives bit for bit the same results
+    again = run(tmp_path, "again", tables, cache)
+    assert np.array_equal(again["bodies/ws1/position_track"][()], table["bodies/ws1/position_track"][()])
+
+
+def test_table_geometry_needs_profile_contact(tmp_path):
+    deck = tmp_path / "bad.nml"
+    deck.write_text(f"&include file = '{REPO / 'inputs' / 'tgv_vehicle_straight.nml'}' /\n"
+                    "&wheelset name = 'w1', contact_geometry = 'tables' /\n")
+    res = subprocess.run([str(EXE), "check", str(deck)], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 1
+    assert "contact_geometry" in res.stderr and "strips" in res.stderr and "bad.nml" in res.stderr
