@@ -8,6 +8,10 @@
 !>                        [--step 0.0005] [--yaw-per-shift 0] [--amplitude 0.003]...
 !>                        [--lowering 5e-6] [--csv OUT.csv] [--h5 OUT.h5] [--plot OUT.png]
 !>                        [--conicity-csv OUT.csv] [--conicity-plot OUT.png] [--contact-plot OUT.png]
+!>                        [--table DIR]
+!> --table DIR: build the pair's contact table into DIR (or read it when DIR has it; the
+!> same files and keys as the run-time cache, docs/theory_contact_geometry.md section 10)
+!> and scan through the table instead of the online strips.
 !> Profile files: SIMPACK .prw/.prr or y-z tables (rd_profile_io). --rail-precant is the
 !> inclination already contained in a rail file (e.g. 0.025 for the Manchester UIC60 v3).
 !> --wheel-right / --rail-right: a different right wheel / rail (default: the same as the
@@ -31,7 +35,8 @@ module rd_cmd_profile_scan
   use rd_profile, only: profile_t
   use rd_profile_source, only: load_wheel_profile, load_rail_profile
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
-  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact
+  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, init_contact_table
+  use rd_contact_table, only: contact_table_options_t
   use rd_contact_patch, only: MAX_PATCHES
   use rd_profile_scan, only: profile_scan_t, run_profile_scan, equivalent_conicity
   use rd_delta_r_table, only: delta_r_table_t, build_delta_r_table
@@ -49,7 +54,7 @@ module rd_cmd_profile_scan
     '[--inclination 0.025] [--rail-precant 0] [--rail-precant-right P] [--gauge 1.435] ' // &
     '[--back-to-back 1.360] [--radius 0.46] [--ymax 0.010] [--step 0.0005] [--yaw-per-shift 0] ' // &
     '[--amplitude 0.003]... [--lowering 5e-6] [--csv OUT.csv] [--h5 OUT.h5] [--plot OUT.png] ' // &
-    '[--conicity-csv OUT.csv] [--conicity-plot OUT.png] [--contact-plot OUT.png]'
+    '[--conicity-csv OUT.csv] [--conicity-plot OUT.png] [--contact-plot OUT.png] [--table DIR]'
   !> Step of the amplitudes of --conicity-csv [m].
   real(wp), parameter :: CONICITY_CSV_STEP = 1.0e-4_wp
 
@@ -63,6 +68,8 @@ contains
     type(delta_r_table_t) :: table
     type(kinematic_motion_t) :: motions(32)
     real(wp) :: harmonic(32), e0
+    character(len=:), allocatable :: table_dir
+    type(contact_table_options_t) :: table_options
     type(track_placement_t) :: pl
     type(surface_options_t) :: opt
     type(profile_t) :: wprof, rprof, wprof_right, rprof_right
@@ -76,6 +83,7 @@ contains
     status = 2
     wheel_name = 's1002'; rail_name = '60e1'; csv = ''; h5 = ''; plot = ''
     conicity_csv = ''; conicity_plot = ''; contact_plot = ''
+    table_dir = ''
     wheel_right_name = ''; rail_right_name = ''; precant_right = -1
     ymax = 0.010_wp; step = 0.0005_wp; yaw_per_shift = 0; lowering = 5.0e-6_wp
     namp = 0
@@ -87,7 +95,7 @@ contains
         status = 0
         return
       case ('--wheel', '--rail', '--wheel-right', '--rail-right', '--csv', '--h5', '--plot', '--conicity-csv', &
-            '--conicity-plot', '--contact-plot')
+            '--conicity-plot', '--contact-plot', '--table')
         if (i + 1 > size(args)) then
           call bad(trim(args(i)) // ' expects a value'); return
         end if
@@ -102,6 +110,7 @@ contains
         case ('--conicity-csv'); conicity_csv = trim(args(i + 1))
         case ('--conicity-plot'); conicity_plot = trim(args(i + 1))
         case ('--contact-plot'); contact_plot = trim(args(i + 1))
+        case ('--table'); table_dir = trim(args(i + 1))
         end select
         i = i + 2
         cycle
@@ -169,6 +178,9 @@ contains
     if (precant_right < 0) precant_right = pl%rail_precant
     if (.not. allocated(error)) call init_strip_contact(geo, wprof, rprof, pl, opt, error, &
       wheel_profile_right=wprof_right, rail_profile_right=rprof_right, rail_precant_right=precant_right)
+    ! --table DIR: the contact table of the pair (built, or read when DIR has it) and the
+    ! scan through it (docs/theory_contact_geometry.md section 10)
+    if (.not. allocated(error) .and. len(table_dir) > 0) call init_contact_table(geo, table_options, error, table_dir)
     if (.not. allocated(error)) call run_profile_scan(geo, ymax, step, yaw_per_shift, lowering, scan, error)
     if (allocated(error)) then
       write (error_unit, '(a)') 'raildyn profile-scan: ' // error%message
@@ -183,6 +195,7 @@ contains
     else
       write (output_unit, '(a)') '# profile scan: wheel ' // wheel_name // ', rail ' // rail_name
     end if
+    if (len(table_dir) > 0) write (output_unit, '(a)') '# through the contact table in ' // table_dir
     write (output_unit, '(a,f7.4,a,f6.3,a,f6.3,a,f6.3,a)') '# inclination ', pl%inclination, ', gauge ', pl%gauge, &
       ' m, back-to-back ', pl%back_to_back, ' m, r0 ', pl%nominal_radius, ' m'
     write (output_unit, '(a)') '#  y[mm]  roll[mrad] nL nR  rL[mm]    rR[mm]   dr[mm]  gL[rad]  gR[rad]'

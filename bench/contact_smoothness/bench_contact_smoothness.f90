@@ -63,7 +63,8 @@ program bench_contact_smoothness
     'strips 0.2 mm, FASTSIM 5x5 | creep_law=fastsim fastsim_grid=5', &
     'strips 0.2 mm, FASTSIM 20x20 | creep_law=fastsim fastsim_grid=20', &
     'strips 0.2 mm, Polach | creep_law=polach', &
-    'strips 0.2 mm, linear | creep_law=linear']
+    'strips 0.2 mm, linear | creep_law=linear', &
+    'tables of strips 0.2 mm, FASTSIM 10x10 | contact_geometry=table creep_law=fastsim fastsim_grid=10']
   character(len=*), parameter :: creep_levels(*) = [character(len=120) :: &
     'linear | creep_law=linear', &
     'linear + Shen-Hedrick-Elkins | creep_law=linear creep_saturation=shen_hedrick_elkins', &
@@ -225,6 +226,7 @@ contains
     character(len=*), intent(in) :: key, value
     select case (key)
     case ('model'); spec%model = value
+    case ('contact_geometry'); spec%contact_geometry = value
     case ('rail_spacing'); spec%surface%rail_spacing = real_setting(key, value)
     case ('wheel_spacing'); spec%surface%wheel_spacing = real_setting(key, value)
     case ('curvature_sigma'); spec%surface%curvature_sigma = real_setting(key, value)
@@ -239,8 +241,9 @@ contains
     case ('hertz_method'); spec%hertz_method = value
     case ('friction'); spec%friction = real_setting(key, value)
     case default
-      error stop 'bench_contact_smoothness: unknown level setting ''' // key // '''; expected model, rail_spacing, ' // &
-        'wheel_spacing, curvature_sigma, creep_law, fastsim_grid, fastsim_bound, creep_saturation, polach_ka, ' // &
+      error stop 'bench_contact_smoothness: unknown level setting ''' // key // '''; expected model, ' // &
+        'contact_geometry, rail_spacing, wheel_spacing, curvature_sigma, creep_law, fastsim_grid, fastsim_bound, ' // &
+        'creep_saturation, polach_ka, ' // &
         'polach_ks, spin_creep, hertz_method or friction'
     end select
   end subroutine apply_setting

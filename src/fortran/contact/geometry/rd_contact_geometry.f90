@@ -135,22 +135,25 @@ contains
   !> Table model from an initialised strip model: each side's pair tabulated once
   !> (rd_contact_table) or read from the table cache (rd_contact_table_cache); the strip
   !> surfaces stay for the profile-based checks.
-  subroutine init_contact_table(geo, options, error)
+  subroutine init_contact_table(geo, options, error, directory)
     type(contact_geometry_t), intent(inout) :: geo
     type(contact_table_options_t), intent(in) :: options
     type(error_t), allocatable, intent(out) :: error
+    !> the cache directory instead of the user cache (raildyn profile-scan --table DIR)
+    character(len=*), intent(in), optional :: directory
     if (geo%model /= CONTACT_MODEL_STRIP) then
       call make_error(error, RD_ERR_INPUT, 'init_contact_table: contact tables need the profile (strip) model')
       return
     end if
-    call obtain_contact_table(geo%wheel, geo%rail, options, geo%table, error)
+    call obtain_contact_table(geo%wheel, geo%rail, options, geo%table, error, directory=directory)
     if (allocated(error)) return
     if (geo%own_wheel_right .and. geo%own_rail_right) then
-      call obtain_contact_table(geo%wheel_right, geo%rail_right, options, geo%table_right, error)
+      call obtain_contact_table(geo%wheel_right, geo%rail_right, options, geo%table_right, error, &
+                                directory=directory)
     else if (geo%own_wheel_right) then
-      call obtain_contact_table(geo%wheel_right, geo%rail, options, geo%table_right, error)
+      call obtain_contact_table(geo%wheel_right, geo%rail, options, geo%table_right, error, directory=directory)
     else if (geo%own_rail_right) then
-      call obtain_contact_table(geo%wheel, geo%rail_right, options, geo%table_right, error)
+      call obtain_contact_table(geo%wheel, geo%rail_right, options, geo%table_right, error, directory=directory)
     end if
     if (allocated(error)) then
       call error_context(error, 'right side')

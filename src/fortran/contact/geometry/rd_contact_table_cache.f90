@@ -51,8 +51,8 @@ contains
 
   !> The table of (wheel, rail, options): from the cache when a valid file with its key is
   !> there, else built and stored. `from_cache` tells which; `path` is the cache file ('' when
-  !> there is no usable cache directory).
-  subroutine obtain_contact_table(wheel, rail, options, table, error, from_cache, path)
+  !> there is no usable cache directory). `directory` replaces the user cache directory.
+  subroutine obtain_contact_table(wheel, rail, options, table, error, from_cache, path, directory)
     type(wheel_surface_t), intent(in) :: wheel
     type(rail_surface_t), intent(in) :: rail
     type(contact_table_options_t), intent(in) :: options
@@ -60,11 +60,17 @@ contains
     type(error_t), allocatable, intent(out) :: error
     logical, intent(out), optional :: from_cache
     character(len=:), allocatable, intent(out), optional :: path
+    character(len=*), intent(in), optional :: directory
     character(len=16) :: key
     character(len=:), allocatable :: dir, file
     logical :: found
     key = contact_table_key(wheel, rail, options)
-    dir = contact_table_cache_dir()
+    if (present(directory)) then
+      dir = directory
+      if (.not. make_directories(dir)) dir = ''
+    else
+      dir = contact_table_cache_dir()
+    end if
     file = ''
     if (len(dir) > 0) file = contact_table_file(dir, key)
     found = .false.
