@@ -30,6 +30,10 @@ program bench_hertz_tables
   type(hertz_params_t) :: hp
   type(error_t), allocatable :: error
   real(wp), allocatable :: xs(:), fm(:), fn(:), fg(:), ratios(:)
+  !> the geometry timed for scale (time_geometry)
+  type(contact_geometry_t) :: geo
+  type(contact_table_t) :: table
+  type(wheel_contact_t) :: r
   real(wp) :: err(3, n_sizes), t_elliptic, t_table(n_sizes), checksum, t_strip, t_tab
   integer :: k, i
 
@@ -139,39 +143,49 @@ contains
     end do
   end function table_errors
 
-  real(wp) function time_elliptic() result(ns)
-    type(hertz_patch_t) :: p
+  !> ns per call of work(i), repeating until at least 0.3 s has elapsed.
+  real(wp) function time_per_call(work) result(ns)
+    interface
+      subroutine work(i)
+        import :: int64
+        integer(int64), intent(in) :: i
+      end subroutine work
+    end interface
     integer(int64) :: t0, t1, rate, calls, i
-    calls = 1024
+    calls = 256
     do
       call system_clock(t0, rate)
       do i = 1, calls
-        call hertz_from_penetration(hp, curvatures(ratios(int(mod(i, int(n_samples, int64))) + 1)), approach, p)
-        checksum = checksum + p%a
+        call work(i)
       end do
       call system_clock(t1)
       if (real(t1 - t0, wp) / rate > 0.3_wp) exit
       calls = calls * 2
     end do
     ns = 1.0e9_wp * real(t1 - t0, wp) / rate / calls
+  end function time_per_call
+
+  real(wp) function time_elliptic() result(ns)
+    ns = time_per_call(one_elliptic)
   end function time_elliptic
 
   real(wp) function time_table() result(ns)
-    real(wp) :: nf, a, b
-    integer(int64) :: t0, t1, rate, calls, i
-    calls = 1024
-    do
-      call system_clock(t0, rate)
-      do i = 1, calls
-        call table_patch(curvatures(ratios(int(mod(i, int(n_samples, int64))) + 1)), approach, nf, a, b)
-        checksum = checksum + a
-      end do
-      call system_clock(t1)
-      if (real(t1 - t0, wp) / rate > 0.3_wp) exit
-      calls = calls * 2
-    end do
-    ns = 1.0e9_wp * real(t1 - t0, wp) / rate / calls
+    ns = time_per_call(one_table)
   end function time_table
+
+  subroutine one_elliptic(i)
+    integer(int64), intent(in) :: i
+    type(hertz_patch_t) :: p
+    call hertz_from_penetration(hp, curvatures(ratios(int(mod(i, int(n_samples, int64))) + 1)), approach, p)
+    checksum = checksum + p%a
+  end subroutine one_elliptic
+
+  subroutine one_table(i)
+    integer(int64), intent(in) :: i
+    real(wp) :: nf, a, b
+    call table_patch(curvatures(ratios(int(mod(i, int(n_samples, int64))) + 1)), approach, nf, a, b)
+    checksum = checksum + a
+  end subroutine one_table
 
   !> ns per wheel of the strip search and of the contact table near the centred pose.
   subroutine time_geometry(ns_strip, ns_table)
@@ -179,12 +193,7 @@ contains
     type(profile_t) :: wheel, rail
     type(track_placement_t) :: pl
     type(surface_options_t) :: opt
-    type(contact_geometry_t) :: geo
-    type(contact_table_t) :: table
     type(contact_table_options_t) :: topt
-    type(wheel_contact_t) :: r
-    integer(int64) :: t0, t1, rate, calls, i
-    real(wp) :: y
     call load_wheel_profile('s1002', wheel, error, 2.0e-4_wp)
     if (allocated(error)) error stop error%message
     call load_rail_profile('60e1', rail, error, 2.0e-4_wp)
@@ -193,31 +202,19 @@ contains
     if (allocated(error)) error stop error%message
     call build_contact_table(geo%wheel, geo%rail, topt, table, error)
     if (allocated(error)) error stop error%message
-    calls = 256
-    do
-      call system_clock(t0, rate)
-      do i = 1, calls
-        y = 1.0e-3_wp * sample(int(i))
-        call wheel_contact(geo, SIDE_LEFT, y, 0.46_wp - 5.0e-5_wp, 0.0_wp, 1.0e-3_wp, r)
-        checksum = checksum + r%max_penetration
-      end do
-      call system_clock(t1)
-      if (real(t1 - t0, wp) / rate > 0.3_wp) exit
-      calls = calls * 2
-    end do
-    ns_strip = 1.0e9_wp * real(t1 - t0, wp) / rate / calls
-    calls = 1024
-    do
-      call system_clock(t0, rate)
-      do i = 1, calls
-        y = 1.0e-3_wp * sample(int(i))
-        call table_wheel_contact(table, y, 0.46_wp - 5.0e-5_wp, 0.0_wp, 1.0e-3_wp, r)
-        checksum = checksum + r%max_penetration
-      end do
-      call system_clock(t1)
-      if (real(t1 - t0, wp) / rate > 0.3_wp) exit
-      calls = calls * 2
-    end do
-    ns_table = 1.0e9_wp * real(t1 - t0, wp) / rate / calls
+    ns_strip = time_per_call(one_strip)
+    ns_table = time_per_call(one_table_wheel)
   end subroutine time_geometry
+
+  subroutine one_strip(i)
+    integer(int64), intent(in) :: i
+    call wheel_contact(geo, SIDE_LEFT, 1.0e-3_wp * sample(int(i)), 0.46_wp - 5.0e-5_wp, 0.0_wp, 1.0e-3_wp, r)
+    checksum = checksum + r%max_penetration
+  end subroutine one_strip
+
+  subroutine one_table_wheel(i)
+    integer(int64), intent(in) :: i
+    call table_wheel_contact(table, 1.0e-3_wp * sample(int(i)), 0.46_wp - 5.0e-5_wp, 0.0_wp, 1.0e-3_wp, r)
+    checksum = checksum + r%max_penetration
+  end subroutine one_table_wheel
 end program bench_hertz_tables
