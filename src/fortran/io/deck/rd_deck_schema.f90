@@ -382,8 +382,9 @@ contains
       pstr('contact_geometry', 'profile contact geometry: the strip search online, or pre-computed ' // &
            'tables of it (docs/theory_contact_geometry.md section 10)', default='strips', allowed='strips|table', &
            cond='profile contact'), &
-      preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift', default=1.0e-4_wp, &
-            min=1.0e-6_wp, max=1.0e-3_wp, cond='contact_geometry = table'), &
+      preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift (the build ' // &
+            'time grows as 1/step: about 1-4 s at 1e-4)', default=1.0e-4_wp, &
+            min=2.0e-5_wp, max=1.0e-3_wp, cond='contact_geometry = table'), &
       path_param(pstr('wheel_profile', 'wheel profile file or analytic keyword', &
                       cond='required for profile contact'), .true., 's1002|60e1|54e1'), &
       path_param(pstr('rail_profile', 'rail profile file or analytic keyword', &
