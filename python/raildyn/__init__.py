@@ -7,6 +7,8 @@
 - ``Model``: ctypes wrapper over the C API (src/c_api/raildyn.h); ``RaildynError``.
 - ``plots``: quick-look plots (``python -m raildyn.plots track|channels ...``).
 - ``calculators`` (if present): stand-alone engineering calculators.
+- ``assess`` (``import raildyn.assess``): EN 14363 / EN 12299 quantities and wear indices of a
+  results file (``raildyn assess``, docs/assessment.md).
 """
 
 import importlib as _importlib

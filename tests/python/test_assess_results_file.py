@@ -50,6 +50,8 @@ DECK = """! synthetic deck: only what the assessment reads
 &body name = 'ws1', mass = 1.0,
       frame_offset = 2.0 /   ! the wheelset's own frame, 2 m ahead
 &wheelset name = 'w1', body = 'ws1', wheel_profile = 'profiles/a/b.txt' /
+&body name = 'floor_body', frame = 'ws1', mass = 1.0 /
+&sensor name = 'floor', body = 'floor_body', position = 0.0, 0.0, 1.0 /
 """
 
 
@@ -172,7 +174,9 @@ def test_every_quantity_of_the_synthetic_scene(make_results_file):
     assert one(a, "Cc", sensor="floor", direction="x").value == pytest.approx(0.0, abs=1e-12)
     # the constant +g starts no transient: the weightings remove a constant
     assert one(a, "Cc", sensor="floor", direction="z").value == pytest.approx(0.0, abs=1e-12)
-    assert any("sensors/floor/specific_force_body" in n for n in a.notes)
+    assert any("sensors/floor/specific_force_body" in n and "vehicle/distance + 2 m" in n for n in a.notes)
+    # its track position: vehicle/distance + the frame offset of its body (shared with ws1)
+    assert q.position == pytest.approx(50.0 + 10.0 * q.series["time"][np.argmax(q.series["value"])] + 2.0)
 
 
 def test_missing_inputs_are_reported_not_raised(make_results_file):

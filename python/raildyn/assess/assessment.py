@@ -106,10 +106,15 @@ def assess(path: str | os.PathLike, prudhomme_alpha: float = 1.0,
             a.quantities.append(not_available("N_MV", "1", reason))
             a.quantities.append(not_available("Cc", "m/s^2", reason))
         distance = np.asarray(r.get("vehicle/distance:sigma"), float) if "vehicle/distance" in r else None
-
-        def position_at(time):
-            return float("nan") if distance is None else float(np.interp(time, t, distance))
         for sensor in sensors:
-            a.notes.append(f"sensor {sensor.name}: accelerations from {sensor.series}")
+            # docs/output.md /sensors: the track position of a sensor's row is vehicle/distance
+            # plus the frame offset of its body
+            offset = sensor.frame_offset or 0.0
+            a.notes.append(f"sensor {sensor.name}: accelerations from {sensor.series}; track position "
+                           f"= vehicle/distance + {offset:g} m" + ("" if sensor.frame_offset is not None
+                                                                  else " (its body's frame not found in the deck)"))
+
+            def position_at(time, offset=offset):
+                return float("nan") if distance is None else float(np.interp(time, t, distance)) + offset
             a.quantities += comfort_quantities(sensor.name, t, sensor.acceleration, position_at)
     return a

@@ -88,7 +88,7 @@ def continuous_comfort(t, ax, ay, az) -> dict[str, tuple[np.ndarray, np.ndarray]
 
 def comfort_quantities(sensor: str, t, acceleration, position_at) -> list[Quantity]:
     """N_MV and the largest Cc per direction of one sensor; ``acceleration`` (n, 3) x y z in
-    the car body axes [m/s^2]; ``position_at(time)`` gives the vehicle's track position."""
+    the car body axes [m/s^2]; ``position_at(time)`` gives the sensor's track position."""
     a = np.asarray(acceleration, float)
     out = []
     try:

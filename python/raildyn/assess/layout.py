@@ -105,6 +105,7 @@ class SensorData:
     name: str
     series: str                           #: the results series the accelerations come from
     acceleration: np.ndarray              #: (n, 3) x y z [m/s^2]
+    frame_offset: float | None = None     #: of its body's track frame, None if not in the deck
 
 
 def _columns(r: Results, series: str) -> dict[str, np.ndarray]:
@@ -186,11 +187,19 @@ def read_sensors(r: Results) -> list[SensorData]:
     first of ``specific_force_body``, ``acceleration_body``, ``acceleration_track`` the file
     holds: EN 12299 measures with accelerometers along the car body's axes."""
     names = sorted({c.split("/")[1] for c in r.channels() if c.startswith("sensors/")})
+    groups = deck_groups(r.deck_text or "")
+    bodies, specs = _merged(groups, "body"), _merged(groups, "sensor")
     out = []
     for name in names:
+        offset = None
+        if "body" in specs.get(name, {}):
+            try:
+                offset = _frame_offset(bodies, specs[name]["body"])
+            except (LayoutError, ValueError):
+                offset = None
         for kind in _SENSOR_SERIES:
             series = f"sensors/{name}/{kind}"
             if series in r and r.get(series).shape[1] == 3:
-                out.append(SensorData(name, series, np.asarray(r.get(series), float)))
+                out.append(SensorData(name, series, np.asarray(r.get(series), float), offset))
                 break
     return out
