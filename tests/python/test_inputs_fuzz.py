@@ -9,7 +9,9 @@
 - inputs_names: names that would become broken HDF5 paths;
 - inputs_scaling: deck parsing linear in the deck's size;
 - inputs_warnings: legal input that deserves a warning (stiffness, wheelset inertia);
-- inputs_schema: every schema parameter changes what a user sees (test_schema_reaches_model.py).
+- inputs_schema: every schema parameter changes what a user sees (test_schema_reaches_model.py);
+- inputs_unused: a parameter given to a kind of its group that does not read it is refused
+  (test_inputs_unused.py).
 
 The expected messages are written here from the documented rules, not copied from the
 program's output.
@@ -34,7 +36,7 @@ KNIFE = """&simulation t_end = 0.002, speed = 20.0, equilibrium = 'none' /
 &body name = 'ws1', mass = 1500.0, ixx = 799.35, iyy = 93.75, izz = 799.35,
       position = 0.0, 0.0, 0.45 /
 &wheelset name = 'w1', body = 'ws1', contact = 'knife_edge', nominal_radius = 0.45,
-      contact_distance = 1.5, conicity = 0.1, creep_law = 'linear',
+      contact_distance = 1.5, conicity = 0.1, creep_law = 'polach',
       friction = 0.3, contact_damping = 5.0e5 /
 &element name = 'spring1', type = 'spring_damper', body1 = 'ground', body2 = 'ws1',
       point1 = 0.0, 1.0, 0.45, point2 = 0.0, 1.0, 0.0, stiffness = 3.9e7, 7.85e6, 0.0 /
@@ -107,11 +109,21 @@ def values_inside(rng):
     raise ValueError(rng)
 
 
-# wheelset parameters of the knife-edge model (profile-only ones need profiles)
+# wheelset parameters of the knife-edge model with the Polach law (KNIFE), and of profile
+# contact (PROFILE_S1002): each read where it is given (test_inputs_unused)
 KNIFE_PARAMS = ["nominal_radius", "contact_distance", "conicity", "friction", "shear_modulus",
                 "poisson", "creep_velocity_min", "contact_damping", "rail_crown_radius",
                 "flange_clearance", "flange_stiffness", "polach_ka", "polach_ks",
-                "polach_friction_ratio", "polach_friction_decay", "back_to_back", "rail_precant"]
+                "polach_friction_ratio", "polach_friction_decay"]
+PROFILE_PARAMS = ["rail_precant", "rail_precant_right"]
+PROFILE_S1002 = """&simulation t_end = 0.002, speed = 20.0, equilibrium = 'none' /
+&output interval = 0.001 /
+&segment type = 'straight', length = 500.0 /
+&body name = 'ws1', mass = 1500.0, ixx = 799.35, iyy = 93.75, izz = 799.35,
+      position = 0.0, 0.0, 0.45979 /
+&wheelset name = 'w1', body = 'ws1', wheel_profile = 's1002', rail_profile = '60e1' /
+&external_force body = 'ws1', frame = 'track', force = 0.0, 0.0, -120723.0 /
+"""
 
 
 def set_param(deck, group_line_start, param, value):
@@ -131,6 +143,7 @@ def set_param(deck, group_line_start, param, value):
 def inside_cases():
     cases = []
     for group, start, names in [("wheelset", "&wheelset", KNIFE_PARAMS),
+                                ("wheelset", "&wheelset name = 'w1', body = 'ws1', wheel", PROFILE_PARAMS),
                                 ("simulation", "&simulation", ["max_wheel_lift", "gravity"]),
                                 ("track", None, ["gauge", "rail_inclination"])]:
         ranges = documented_ranges(group)
@@ -144,7 +157,7 @@ def inside_cases():
 @pytest.mark.parametrize("group,start,param,value", inside_cases(),
                          ids=lambda x: str(x) if not isinstance(x, str) or "&" not in x else None)
 def test_documented_values_are_accepted(raildyn_exe, tmp_path, group, start, param, value):
-    deck = KNIFE
+    deck = PROFILE_S1002 if param in PROFILE_PARAMS else KNIFE
     if param == "flange_clearance":       # a flange stop needs its stiffness (documented)
         deck = set_param(deck, "&wheelset", "flange_stiffness", "1e7")
     if param == "nominal_radius":         # the wheelset's centre at its wheels' radius
@@ -176,7 +189,7 @@ OUTSIDE = [
 def test_outside_the_documented_range_both_refuse_at_the_line(raildyn_exe, tmp_path, param,
                                                               value, start):
     p = tmp_path / "scene.nml"
-    deck = set_param(KNIFE, start, param, value)
+    deck = set_param(PROFILE_S1002 if param == "back_to_back" else KNIFE, start, param, value)
     p.write_text(deck)
     line = deck[:deck.index(f"{param} = {value}")].count("\n") + 1
     chk, rn = check_and_run(raildyn_exe, p, tmp_path)

@@ -63,8 +63,7 @@ BASE = """&simulation title = 'schema probe', t_end = 0.004, speed = 20.0, start
       point1 = 0.0, 0.8, 0.0, point2 = 0.0, 0.8, -0.4, stiffness = 1e6, 1e6, 1e6,
       damping = 1e4, 1e4, 1e4 /
 &element name = 'torsion', type = 'torsion', body1 = 'ground', body2 = 'frame',
-      point1 = 0.0, 0.0, 0.9, point2 = 0.0, 0.0, 0.0, torsion_stiffness = 1e5, 1e5, 1e5,
-      torsion_damping = 1e3, 1e3, 1e3 /
+      torsion_stiffness = 1e5, 1e5, 1e5, torsion_damping = 1e3, 1e3, 1e3 /
 &element name = 'table', type = 'table', body1 = 'ws1', body2 = 'frame',
       point1 = 0.0, -0.8, 0.0, point2 = 0.0, -0.8, -0.4, table_axis = 'z',
       table_deflection = 0.0, 0.05, 0.1, table_force = 0.0, 1e4, 5e4 /
@@ -90,7 +89,9 @@ SHARED_FILES = {
     "mbench_wheel.prw": (REPO / "validation" / "reference" / "profiles" / "MBench_S1002_v3.prw").read_text(),
 }
 
-KNIFE = [("&wheelset", "contact", "'knife_edge'")]      # knife-edge wheelset (r0 0.46 m)
+# knife-edge wheelset (r0 0.46 m): its profiles left out (profile contact reads them)
+KNIFE = [lambda d: d.replace(", wheel_profile = 's1002', rail_profile = '60e1'", ""),
+         ("&wheelset", "contact", "'knife_edge'")]
 RAILS = [lambda d: d + RAIL_BODIES]                    # rail bodies, not yet under the wheels
 RAIL_BODIES = "".join(
     f"&body name = 'rail_{s}', mass = 245.0, ixx = 1.0, iyy = 1.0, izz = 1.0, frame = 'ws1',\n"
@@ -237,7 +238,13 @@ MUTATIONS = {
                                              ("&wheelset", "polach_friction_ratio", "0.5")],
                                             [("&wheelset", "polach_friction_decay", "0.5")], False),
     ("element", "name"): ([], [rename("spring", "primary")], False),
-    ("element", "type"): ([], [("&element name = 'spring'", "type", "'torsion'")], False),
+    # the torsion element becomes a spring-damper with the same stiffness and damping (each
+    # kind's own parameters: a torsion element reads no 'stiffness')
+    ("element", "type"): ([], [lambda d: d.replace(
+        "type = 'torsion', body1 = 'ground', body2 = 'frame',\n"
+        "      torsion_stiffness = 1e5, 1e5, 1e5, torsion_damping = 1e3, 1e3, 1e3 /",
+        "type = 'spring_damper', body1 = 'ground', body2 = 'frame',\n"
+        "      stiffness = 1e5, 1e5, 1e5, damping = 1e3, 1e3, 1e3 /")], False),
     ("element", "body1"): ([], [("&element name = 'spring'", "body1", "'ground'")], False),
     ("element", "body2"): ([], [("&element name = 'series'", "body2", "'ws1'")], False),
     ("element", "point1"): ([], [("&element name = 'spring'", "point1", "0.0, 0.9, 0.0")], False),

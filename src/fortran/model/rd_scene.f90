@@ -904,7 +904,7 @@ contains
 
     call build_bodies(self%deck, bodies, self%frame_offsets, error)
     if (allocated(error)) return
-    allocate (self%warning_list(0))
+    self%warning_list = self%deck%notes()
     call check_body_inertia(self%deck, bodies, self%warning_list, error)
     if (allocated(error)) return
     call check_rail_bodies(self%deck, bodies, self%frame_offsets, error)

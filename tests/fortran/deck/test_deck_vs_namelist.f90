@@ -40,9 +40,10 @@ program test_deck_vs_namelist
     '   speed_times = 0, 1.0, 2e0, 3.d0,' // nl // &
     '   speed_values = 2*1.0, 2*2.5 /' // nl // &
     '&body name = ''b1'', mass = 1.0E+3, ixx = 1, iyy = 2, izz = 3, ixy = -0.5,' // nl // &
-    '   position = 3*0.25, position(2) = -1.5, velocity = 1 2 3, frozen = ''yaw'', ''roll'' /' // nl // &
+    '   position = 3*0.25, position(2) = -1.5, velocity = 1 2 3, frozen = ''yaw'', ''roll'',' // nl // &
+    '   frame_offset = -1.28 /' // nl // &
     '&body name = "b2", mass = 2e3, ixx = 4, iyy = 5, izz = 6, orientation(3) = 0.125,' // nl // &
-    '   frame_offset = -1.28, frame = ''b1'' /' // nl // &
+    '   frame = ''b1'' /' // nl // &
     '&solver max_num_steps = 250, rtol = 1.0D-7 /' // nl // &
     '&wheelset name = ''w'', body = ''b1'', contact = ''knife_edge'', spin_creep = F /' // nl
   call read_deck_string(deck, text, '.', 'oracle.nml', error)

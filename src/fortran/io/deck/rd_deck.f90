@@ -34,7 +34,10 @@ module rd_deck
     integer :: nent = 0
     character(len=:), allocatable :: full_text
     logical :: from_file = .false.   !< sources(1) is a file (not a deck given as text)
+    !> base-deck parameters an override made unread (rd_deck_resolve check_unused)
+    type(deck_string_t), allocatable :: override_notes(:)
   contains
+    procedure :: notes => deck_notes
     procedure :: count => deck_count
     procedure :: given => deck_given
     procedure :: origin => deck_origin
@@ -75,6 +78,7 @@ contains
     type(error_t), allocatable, intent(out) :: error
     type(parse_context_t) :: ctx
     character(len=:), allocatable :: expanded
+    type(deck_string_t), allocatable :: notes(:)
     type(deck_entity_t), allocatable :: entities(:)
     integer :: nent
     ctx%schema = build_deck_schema()
@@ -90,14 +94,27 @@ contains
     ! resolved into locals: a deck that failed to read stays empty (its
     ! getters then report RD_ERR_INTERNAL instead of half-read values)
     call resolve_entities(ctx%schema, ctx%sources(1:ctx%nsrc), ctx%entities, ctx%nent, &
-                          entities, nent, error)
+                          entities, nent, error, notes)
     if (allocated(error)) return
+    call move_alloc(notes, deck%override_notes)
     call move_alloc(entities, deck%entities)
     deck%nent = nent
     call move_alloc(ctx%sources, deck%sources)
     deck%schema = ctx%schema
     deck%full_text = expanded
   end subroutine read_deck_string
+
+  !> Warnings of the reading: parameters of a base deck that an override in a later file
+  !> made unread (it changed the kind that reads them), one line each.
+  function deck_notes(self) result(list)
+    class(deck_t), intent(in) :: self
+    type(deck_string_t), allocatable :: list(:)
+    if (allocated(self%override_notes)) then
+      list = self%override_notes
+    else
+      allocate (list(0))
+    end if
+  end function deck_notes
 
   ! ------------------------------------------------------------------
   ! Queries.

@@ -13,7 +13,7 @@ module rd_deck_resolve
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   use rd_deck_text, only: deck_string_t, single_string, int_to_str, real_to_str, path_join, path_stem
   use rd_deck_schema, only: deck_schema_t, param_schema_t, find_group, &
-                            find_param, suggest_name, PT_REAL, PT_INTEGER, PT_STRING, &
+                            find_param, suggest_name, used_text, PT_REAL, PT_INTEGER, PT_STRING, &
                             PT_LOGICAL, PT_REAL_ARRAY, PT_STRING_LIST, DEF_REQUIRED, DEF_VALUE, &
                             DEF_OPTIONAL, DEF_PREVIOUS, DEF_DECK_STEM
   use rd_deck_store, only: param_value_t, deck_entity_t, source_file_t, append_entity, &
@@ -25,7 +25,9 @@ module rd_deck_resolve
 
 contains
 
-  subroutine resolve_entities(schema, sources, raw, nraw, entities, nent, error)
+  !> `notes`: parameters of a base deck that an override in a later file made unread (it
+  !> changed the kind that reads them: check_unused), one line each, for the warnings.
+  subroutine resolve_entities(schema, sources, raw, nraw, entities, nent, error, notes)
     type(deck_schema_t), intent(in) :: schema
     type(source_file_t), intent(in) :: sources(:)
     type(deck_entity_t), intent(in) :: raw(:)
@@ -33,9 +35,10 @@ contains
     type(deck_entity_t), allocatable, intent(out) :: entities(:)
     integer, intent(out) :: nent
     type(error_t), allocatable, intent(out) :: error
+    type(deck_string_t), allocatable, intent(out) :: notes(:)
     integer :: i, j
     nent = 0
-    allocate (entities(max(1, nraw)))
+    allocate (entities(max(1, nraw)), notes(0))
     do i = 1, nraw
       call merge_or_append(schema, sources, raw(i), entities, nent, error)
       if (allocated(error)) return
@@ -72,7 +75,7 @@ contains
     end do
     call check_references(schema, sources, entities, nent, error)
     if (allocated(error)) return
-    call check_rules(schema, sources, entities, nent, error)
+    call check_rules(schema, sources, entities, nent, error, notes)
   end subroutine resolve_entities
 
   function where_value(schema, sources, e, j) result(t)
@@ -340,12 +343,13 @@ contains
   ! -------------------------------------------------------------------
   ! Rules that involve several parameters or groups.
   ! -------------------------------------------------------------------
-  subroutine check_rules(schema, sources, entities, nent, error)
+  subroutine check_rules(schema, sources, entities, nent, error, notes)
     type(deck_schema_t), intent(in) :: schema
     type(source_file_t), intent(in) :: sources(:)
     type(deck_entity_t), intent(inout) :: entities(:)
     integer, intent(in) :: nent
     type(error_t), allocatable, intent(out) :: error
+    type(deck_string_t), allocatable, intent(inout) :: notes(:)
     integer :: i, j, k, prev_segment, gsim, gseg, gtrack, gelem, gws, gext, nseg
     character(len=:), allocatable :: kind
     gsim = find_group(schema, 'simulation'); gseg = find_group(schema, 'segment')
@@ -398,6 +402,16 @@ contains
             ' m needs a stiffness; expected flange_stiffness > 0 (N/m)')
         end if
         if (allocated(error)) return
+        ! the unsaturated linear law has no friction limit (Kalker's linear theory)
+        if (has(entities(i), 'friction') .and. sval(entities(i), 'creep_law') == 'linear' .and. &
+            sval(entities(i), 'creep_saturation') == 'none') then
+          call make_error(error, RD_ERR_INPUT, &
+            where_value(schema, sources, entities(i), pidx(entities(i), 'friction')) // &
+            "not read by creep_law = 'linear' with creep_saturation = 'none' (Kalker's linear " // &
+            "law has no friction limit); expected it left out, or creep_saturation = " // &
+            "'shen_hedrick_elkins', or creep_law = 'fastsim' or 'polach'")
+          return
+        end if
         do k = 1, i - 1
           if (allocated(error)) exit
           if (entities(k)%group /= gws) cycle
@@ -436,7 +450,69 @@ contains
       end do
     end do
 
+    ! parameters given to a kind of their group that does not read them
+    do i = 1, nent
+      call check_unused(entities(i))
+      if (allocated(error)) return
+    end do
+
   contains
+
+    !> Every parameter of e that its kind does not read (schema used_with / used_values) is
+    !> an error naming the parameter, the selector's value and where it is read; except
+    !> when the selector was written by an override in a later file than the parameter (a
+    !> campaign deck switching the base deck's creep_law, a scene switching its vehicle's
+    !> contact model): the override replaced the kind, and the base deck's parameters of
+    !> the former kind are reported in `notes` (a warning of check and run), not refused.
+    subroutine check_unused(e)
+      type(deck_entity_t), intent(in) :: e
+      integer :: j, js, k
+      logical :: read, overridden
+      character(len=:), allocatable :: why
+      associate (g => schema%groups(e%group))
+        do j = 1, size(g%params)
+          associate (p => g%params(j))
+            if (len(p%used_with) == 0 .or. .not. e%values(j)%given) cycle
+            js = find_param(g, p%used_with)
+            select case (p%used_values(1)%s)
+            case ('(given)')
+              read = e%values(js)%given
+              why = 'without ' // p%used_with
+            case ('(not given)')
+              read = .not. e%values(js)%given
+              why = 'with ' // p%used_with // ' (' // location_text(sources, e%values(js)%source, &
+                    e%values(js)%line) // ')'
+            case default
+              read = .false.
+              do k = 1, size(p%used_values)
+                if (sval(e, p%used_with) == p%used_values(k)%s) read = .true.
+              end do
+              why = 'with ' // p%used_with // " = '" // sval(e, p%used_with) // "'"
+              if (e%values(js)%given) then
+                why = why // ' (' // location_text(sources, e%values(js)%source, e%values(js)%line) // ')'
+              else
+                why = why // ' (the default)'
+              end if
+            end select
+            if (read) cycle
+            overridden = .false.
+            if (e%values(js)%given .and. e%values(js)%source /= e%values(j)%source) &
+              overridden = findloc(e%contributors, e%values(js)%source, dim=1) > &
+                           findloc(e%contributors, e%values(j)%source, dim=1)
+            if (overridden) then
+              notes = [notes, deck_string_t(where_value(schema, sources, e, j) // 'not read ' // why // &
+                       ', an override of the kind; ignored (' // p%name // ' is read only ' // &
+                       used_text(p) // ')')]
+              cycle
+            end if
+            call make_error(error, RD_ERR_INPUT, where_value(schema, sources, e, j) // &
+              'not read ' // why // '; expected it left out (' // p%name // ' is read only ' // &
+              used_text(p) // ')')
+            return
+          end associate
+        end do
+      end associate
+    end subroutine check_unused
 
     integer function pidx(e, name)
       type(deck_entity_t), intent(in) :: e
@@ -533,7 +609,7 @@ contains
 
     subroutine check_element(e)
       type(deck_entity_t), intent(in) :: e
-      integer :: jd, jf
+      integer :: jd, jf, k
       if (sval(e, 'body1') == sval(e, 'body2')) then
         call make_error(error, RD_ERR_INPUT, where_value(schema, sources, e, pidx(e, 'body2')) // &
           "body2 = body1 = '" // sval(e, 'body2') // "'; expected two different bodies")
@@ -561,8 +637,28 @@ contains
             'table_force as table_deflection values')
           return
         end if
+        ! the table acts along table_axis only: damping across it would be ignored
+        jd = pidx(e, 'damping')
+        if (has(e, 'damping')) then
+          k = index('xyz', sval(e, 'table_axis'))
+          if (any(e%values(jd)%reals /= 0 .and. [1, 2, 3] /= k)) then
+            call make_error(error, RD_ERR_INPUT, where_value(schema, sources, e, jd) // &
+              "a table element damps along table_axis = '" // sval(e, 'table_axis') // &
+              "' only; expected 0 for the other components")
+            return
+          end if
+        end if
       case ('series_spring_damper')
         call need(e, 'series_stiffness', "type = 'series_spring_damper'")
+        if (allocated(error)) return
+        ! one damper along the line joining the points (damping(1)): nothing across it
+        jd = pidx(e, 'damping')
+        if (any(e%values(jd)%reals(2:3) /= 0)) then
+          call make_error(error, RD_ERR_INPUT, where_value(schema, sources, e, jd) // &
+            'a series spring-damper damps along the line joining its points only, with ' // &
+            'damping(1); expected damping(2) = damping(3) = 0')
+          return
+        end if
       end select
     end subroutine check_element
   end subroutine check_rules

@@ -15,7 +15,7 @@ module rd_deck_schema
   private
   public :: param_schema_t, group_schema_t, deck_schema_t, build_deck_schema
   public :: find_group, find_param, suggest_name, type_text, default_text, range_text
-  public :: write_schema_markdown
+  public :: write_schema_markdown, used_text
   public :: PT_REAL, PT_INTEGER, PT_STRING, PT_LOGICAL, PT_REAL_ARRAY, PT_STRING_LIST
   public :: DEF_REQUIRED, DEF_VALUE, DEF_OPTIONAL, DEF_PREVIOUS, DEF_DECK_STEM
 
@@ -48,6 +48,13 @@ module rd_deck_schema
     type(deck_string_t), allocatable :: ref_keywords(:)   !< e.g. 'ground', 'own'
     logical :: unique = .false.         !< value unique among the group's entities ('name')
     character(len=:), allocatable :: condition      !< cross-parameter rule, for the docs
+    !> Parameters that only some kinds of their group read: the parameter is read only when
+    !> the group's parameter `used_with` has one of the values `used_values` (after
+    !> defaults), or, with used_values = ['(given)'] / ['(not given)'], only when
+    !> `used_with` is / is not written. Given where it is not read, it is an input error
+    !> (rd_deck_resolve check_unused): nothing in a deck is silently ignored.
+    character(len=:), allocatable :: used_with
+    type(deck_string_t), allocatable :: used_values(:)
   end type param_schema_t
 
   type :: group_schema_t
@@ -97,8 +104,9 @@ contains
     p%condition = ''
     if (present(cond)) p%condition = cond
     allocate (p%default_reals(0), p%default_strings(0), p%allowed(0), p%path_keywords(0), &
-              p%ref_keywords(0))
+              p%ref_keywords(0), p%used_values(0))
     p%ref_group = ''
+    p%used_with = ''
   end function base
 
   subroutine set_range(p, min, max, min_open, max_open)
@@ -215,6 +223,17 @@ contains
     if (present(keywords)) q%ref_keywords = strs(keywords)
   end function ref_param
 
+  !> The parameter is read only when `selector` (a parameter of the same group) has one of
+  !> the '|'-separated `values`, or is given ('(given)') / not given ('(not given)').
+  function only_with(p, selector, values) result(q)
+    type(param_schema_t), intent(in) :: p
+    character(len=*), intent(in) :: selector, values
+    type(param_schema_t) :: q
+    q = p
+    q%used_with = selector
+    q%used_values = strs(values)
+  end function only_with
+
   function unique_name(meaning) result(p)
     character(len=*), intent(in) :: meaning
     type(param_schema_t) :: p
@@ -271,20 +290,23 @@ contains
     call add_group(s, 'solver', .false., 'time integration', [ &
       pstr('method', 'integrator (bdf, adams: CVODE; erk: ARKODE explicit; rk4: fixed step)', &
            default='bdf', allowed='bdf|adams|erk|rk4'), &
-      preal('rtol', '-', 'relative tolerance', default=1.0e-6_wp, min=zero, max=1.0_wp, &
-            min_open=.true., max_open=.true.), &
-      preal('atol', '-', 'absolute tolerance (state units)', default=1.0e-8_wp, min=zero, &
-            min_open=.true.), &
-      preal('max_step', 's', 'largest step; 0 = unlimited', default=zero, min=zero), &
-      preal('min_step', 's', 'smallest step', default=zero, min=zero), &
-      preal('initial_step', 's', 'first step; 0 = automatic', default=zero, min=zero), &
+      only_with(preal('rtol', '-', 'relative tolerance', default=1.0e-6_wp, min=zero, max=1.0_wp, &
+                      min_open=.true., max_open=.true.), 'method', 'bdf|adams|erk'), &
+      only_with(preal('atol', '-', 'absolute tolerance (state units)', default=1.0e-8_wp, min=zero, &
+                      min_open=.true.), 'method', 'bdf|adams|erk'), &
+      only_with(preal('max_step', 's', 'largest step; 0 = unlimited', default=zero, min=zero), &
+                'method', 'bdf|adams|erk'), &
+      only_with(preal('min_step', 's', 'smallest step', default=zero, min=zero), 'method', 'bdf|adams|erk'), &
+      only_with(preal('initial_step', 's', 'first step; 0 = automatic', default=zero, min=zero), &
+                'method', 'bdf|adams|erk'), &
       pint('max_num_steps', '-', 'steps allowed between two outputs', 100000, min=1), &
-      preal('fixed_step', 's', 'step of the fixed-step rk4 method', default=1.0e-4_wp, min=zero, &
-            min_open=.true., cond='used by rk4 only'), &
-      pint('max_order', '-', 'largest method order; 0 = method default', 0, min=0, max=12), &
-      pstr('jacobian', 'Newton-matrix Jacobian of bdf: difference quotients grouping bodies ' // &
-           'that share no force element (coloured) or one state at a time (dense, CVODE)', &
-           default='coloured', allowed='coloured|dense', cond='used by bdf only')])
+      only_with(preal('fixed_step', 's', 'step of the fixed-step rk4 method', default=1.0e-4_wp, min=zero, &
+                      min_open=.true.), 'method', 'rk4'), &
+      only_with(pint('max_order', '-', 'largest method order; 0 = method default', 0, min=0, max=12), &
+                'method', 'bdf|adams'), &
+      only_with(pstr('jacobian', 'Newton-matrix Jacobian of bdf: difference quotients grouping bodies ' // &
+                     'that share no force element (coloured) or one state at a time (dense, CVODE)', &
+                     default='coloured', allowed='coloured|dense'), 'method', 'bdf')])
 
     p = pstr('file', 'results file (HDF5), relative to the deck unless absolute; not given: ' // &
              'the deck stem + .h5 in the working directory (raildyn run -o overrides both)')
@@ -319,12 +341,15 @@ contains
                       cond='no &segment allowed when given'), .true.), &
       path_param(pstr('irregularity_file', 'track irregularities: text columns sigma alignment level ' // &
                       'cross_level gauge [m] (signs: docs/conventions.md)'), .true.), &
-      preal('irregularity_scale', '-', 'factor on every irregularity offset', default=1.0_wp, &
-            min=zero, cond='used with irregularity_file'), &
-      preal('irregularity_fade', 'm', 'length of the linear fade-in after the first and fade-out ' // &
-            'before the last irregularity point', default=zero, min=zero, cond='used with irregularity_file'), &
-      preal('start_heading', 'rad', 'heading of the track at sigma = 0', default=zero), &
-      vec3('start_position', 'm', 'fixed-frame position of the track at sigma = 0')])
+      only_with(preal('irregularity_scale', '-', 'factor on every irregularity offset', default=1.0_wp, &
+                      min=zero), 'irregularity_file', '(given)'), &
+      only_with(preal('irregularity_fade', 'm', 'length of the linear fade-in after the first and ' // &
+                      'fade-out before the last irregularity point', default=zero, min=zero), &
+                'irregularity_file', '(given)'), &
+      only_with(preal('start_heading', 'rad', 'heading of the track at sigma = 0 (a survey file''s ' // &
+                      'points place the track themselves)', default=zero), 'survey_file', '(not given)'), &
+      only_with(vec3('start_position', 'm', 'fixed-frame position of the track at sigma = 0'), &
+                'survey_file', '(not given)')])
 
     call add_group(s, 'segment', .true., 'one piece of track layout, in running order', [ &
       pstr('type', 'segment kind', required=.true., allowed='straight|clothoid|curve'), &
@@ -340,8 +365,8 @@ contains
       preal('cant', 'm', 'superelevation of the outer rail at the segment end', default=zero, &
             min=-0.2_wp, max=0.3_wp, &
             cond='for a curve the default is the previous segment''s end cant'), &
-      pstr('cant_ramp', 'shape of the cant transition along the segment', default='linear', &
-           allowed='linear|cosine'), &
+      only_with(pstr('cant_ramp', 'shape of the cant transition along the segment (only a clothoid ' // &
+                     'ramps the cant)', default='linear', allowed='linear|cosine'), 'type', 'clothoid'), &
       preal('gradient', '-', 'longitudinal gradient at the segment end', default=zero, &
             min=-0.1_wp, max=0.1_wp, previous=.true., &
             cond='not given: the previous segment''s end gradient')])
@@ -364,7 +389,8 @@ contains
       vec3('angular_rate', 'rad/s', 'initial yaw roll pitch rates'), &
       ref_param(pstr('frame', 'track frame: own, or the name of a body whose frame it shares', &
                      default='own'), 'body', 'own'), &
-      preal('frame_offset', 'm', 'own frame at sigma_vehicle + frame_offset', default=zero), &
+      only_with(preal('frame_offset', 'm', 'own frame at sigma_vehicle + frame_offset (a body sharing ' // &
+                      'another''s frame has that body''s offset)', default=zero), 'frame', 'own'), &
       pstrlist('frozen', 'coordinates held at their initial value', 'x|y|z|yaw|roll|pitch')])
 
     call add_group(s, 'wheelset', .true., 'wheel-rail contact of a wheelset body', [ &
@@ -379,22 +405,22 @@ contains
       pstr('normal_contact', 'wheelset height and roll: elastic (integrated on the Hertz springs) or ' // &
            'quasi_static (solved from their force balance at every evaluation; docs/theory.md)', &
            default='elastic', allowed='elastic|quasi_static'), &
-      pstr('contact_geometry', 'profile contact geometry: the strip search online, or pre-computed ' // &
-           'tables of it (docs/theory_contact_geometry.md section 10)', default='strips', allowed='strips|table', &
-           cond='profile contact'), &
-      preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift (the build ' // &
-            'time grows as 1/step: about 1-4 s at 1e-4)', default=1.0e-4_wp, &
-            min=2.0e-5_wp, max=1.0e-3_wp, cond='contact_geometry = table'), &
-      path_param(pstr('wheel_profile', 'wheel profile file or analytic keyword', &
-                      cond='required for profile contact'), .true., 's1002|60e1|54e1'), &
-      path_param(pstr('rail_profile', 'rail profile file or analytic keyword', &
-                      cond='required for profile contact'), .true., 's1002|60e1|54e1'), &
-      path_param(pstr('wheel_profile_right', 'right wheel profile file or analytic keyword, in the ' // &
-                      'same profile frame as a left one (docs/conventions.md Profiles)', &
-                      cond='profile contact; default: wheel_profile'), .true., 's1002|60e1|54e1'), &
-      path_param(pstr('rail_profile_right', 'right rail profile file or analytic keyword, in the ' // &
-                      'same profile frame as a left one (docs/conventions.md Profiles)', &
-                      cond='profile contact; default: rail_profile'), .true., 's1002|60e1|54e1'), &
+      only_with(pstr('contact_geometry', 'profile contact geometry: the strip search online, or pre-computed ' // &
+             'tables of it (docs/theory_contact_geometry.md section 10)', default='strips', allowed='strips|table'), &
+                'contact', 'profile'), &
+      only_with(preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift (the build ' // &
+              'time grows as 1/step: about 1-4 s at 1e-4)', default=1.0e-4_wp, &
+              min=2.0e-5_wp, max=1.0e-3_wp), 'contact_geometry', 'table'), &
+      only_with(path_param(pstr('wheel_profile', 'wheel profile file or analytic keyword', &
+                        cond='required for profile contact'), .true., 's1002|60e1|54e1'), 'contact', 'profile'), &
+      only_with(path_param(pstr('rail_profile', 'rail profile file or analytic keyword', &
+                        cond='required for profile contact'), .true., 's1002|60e1|54e1'), 'contact', 'profile'), &
+      only_with(path_param(pstr('wheel_profile_right', 'right wheel profile file or analytic keyword, in the ' // &
+                        'same profile frame as a left one (docs/conventions.md Profiles)', &
+                        cond='profile contact; default: wheel_profile'), .true., 's1002|60e1|54e1'), 'contact', 'profile'), &
+      only_with(path_param(pstr('rail_profile_right', 'right rail profile file or analytic keyword, in the ' // &
+                        'same profile frame as a left one (docs/conventions.md Profiles)', &
+                        cond='profile contact; default: rail_profile'), .true., 's1002|60e1|54e1'), 'contact', 'profile'), &
       preal('nominal_radius', 'm', 'wheel radius at the tape circle, where the wheel profile''s ' // &
             'radius increase F(s) is 0 (profile contact: places the wheel profile; knife edge: the ' // &
             'cone radius at the contact point)', default=0.46_wp, min=0.2_wp, &
@@ -405,58 +431,61 @@ contains
             cond='default: profile contact: the centred rolling radius of the profiles, the mean ' // &
             'of the left and right rolling radii at y = 0 and zero yaw (as raildyn profile-scan); ' // &
             'knife edge: nominal_radius; raildyn check prints it'), &
-      preal('contact_distance', 'm', 'distance between nominal contact points (knife edge)', &
-            default=1.5_wp, min=0.4_wp, max=3.0_wp, min_open=.true., max_open=.true.), &
-      preal('conicity', '-', 'cone slope of the knife-edge wheels', default=0.05_wp, min=zero, &
-            max=1.0_wp, max_open=.true.), &
-      preal('back_to_back', 'm', 'distance between the wheel inner faces', default=1.360_wp, &
-            min=0.5_wp, max=2.0_wp, min_open=.true., max_open=.true.), &
-      preal('flange_back', 'm', 'lateral position of the flange back in the profile frame', &
-            default=-0.070_wp), &
+      only_with(preal('contact_distance', 'm', 'distance between nominal contact points (knife edge)', &
+              default=1.5_wp, min=0.4_wp, max=3.0_wp, min_open=.true., max_open=.true.), 'contact', 'knife_edge'), &
+      only_with(preal('conicity', '-', 'cone slope of the knife-edge wheels', default=0.05_wp, min=zero, &
+              max=1.0_wp, max_open=.true.), 'contact', 'knife_edge'), &
+      only_with(preal('back_to_back', 'm', 'distance between the wheel inner faces', default=1.360_wp, &
+              min=0.5_wp, max=2.0_wp, min_open=.true., max_open=.true., cond='the wheels must ' // &
+              'meet the rails, checked when the scene is built: S1002 on 60E1 at gauge 1.435 m ' // &
+              'needs about 1.2 to 1.42 m'), 'contact', 'profile'), &
+      only_with(preal('flange_back', 'm', 'lateral position of the flange back in the profile frame', &
+              default=-0.070_wp), 'contact', 'profile'), &
       pstr('creep_law', 'tangential contact law', default='fastsim', &
            allowed='linear|fastsim|polach'), &
       plog('spin_creep', 'spin creepage enters the creep law (.false.: creep forces from xi and eta ' // &
            'only, as the thesis 5.5-5.6 comparison; the spin is still computed and written)', .true.), &
-      pstr('creep_saturation', 'saturation of the linear law', default='none', &
-           allowed='none|shen_hedrick_elkins'), &
+      only_with(pstr('creep_saturation', 'saturation of the linear law', default='none', &
+             allowed='none|shen_hedrick_elkins'), 'creep_law', 'linear'), &
       preal('friction', '-', 'wheel-rail friction coefficient', default=0.3_wp, min=zero, &
-            max=1.0_wp), &
+            max=1.0_wp, cond='read by fastsim, polach and a saturated linear law; not with ' // &
+            'creep_law = linear and creep_saturation = none'), &
       preal('shear_modulus', 'Pa', 'combined shear modulus (the bound keeps E = 2 G (1 + poisson) ' // &
             'below the 1e15 Pa Hertz limit; steel: 8.2e10)', default=82.0e9_wp, min=zero, max=1.0e14_wp, &
             min_open=.true., max_open=.true.), &
       preal('poisson', '-', 'Poisson ratio', default=0.28_wp, min=zero, max=0.5_wp, &
             max_open=.true.), &
-      pint('fastsim_grid', '-', 'FASTSIM strips and elements per strip', 10, min=2, max=200), &
-      pstr('fastsim_bound', 'FASTSIM traction bound', default='parabolic', &
-           allowed='parabolic|elliptic'), &
-      preal('fastsim_saturation_width', '-', 'FASTSIM: width w of the smooth clip of each ' // &
-            'element''s traction onto the bound (0 = Kalker''s sharp clip; docs/theory_contact_mechanics.md)', &
-            default=zero, min=zero, max=0.5_wp), &
-      preal('polach_ka', '-', 'Polach reduction in the adhesion area', default=1.0_wp, min=zero, &
-            max=1.0_wp, min_open=.true.), &
-      preal('polach_ks', '-', 'Polach reduction in the slip area', default=1.0_wp, min=zero, &
-            max=1.0_wp, min_open=.true.), &
+      only_with(pint('fastsim_grid', '-', 'FASTSIM strips and elements per strip', 10, min=2, max=200), 'creep_law', 'fastsim'), &
+      only_with(pstr('fastsim_bound', 'FASTSIM traction bound', default='parabolic', &
+             allowed='parabolic|elliptic'), 'creep_law', 'fastsim'), &
+      only_with(preal('fastsim_saturation_width', '-', 'FASTSIM: width w of the smooth clip of each ' // &
+              'element''s traction onto the bound (0 = Kalker''s sharp clip; docs/theory_contact_mechanics.md)', &
+              default=zero, min=zero, max=0.5_wp), 'creep_law', 'fastsim'), &
+      only_with(preal('polach_ka', '-', 'Polach reduction in the adhesion area', default=1.0_wp, min=zero, &
+              max=1.0_wp, min_open=.true.), 'creep_law', 'polach'), &
+      only_with(preal('polach_ks', '-', 'Polach reduction in the slip area', default=1.0_wp, min=zero, &
+              max=1.0_wp, min_open=.true.), 'creep_law', 'polach'), &
       preal('creep_velocity_min', 'm/s', 'regularisation of the creepage reference velocity', &
             default=0.05_wp, min=zero, max=100.0_wp, min_open=.true., max_open=.true.), &
       preal('contact_damping', 'N s/m', 'normal contact damping', default=zero, min=zero, &
             max=1.0e12_wp, max_open=.true.), &
       pstr('hertz_method', 'Hertz ellipse coefficients', default='elliptic', &
            allowed='elliptic|table'), &
-      preal('rail_precant', '-', 'inclination already contained in the rail profile file (tan)', &
-            default=zero, min=zero, max=0.1_wp), &
-      preal('rail_precant_right', '-', 'inclination already contained in the right rail profile ' // &
-            'file (tan)', min=zero, max=0.1_wp, cond='default: rail_precant'), &
-      preal('rail_crown_radius', 'm', 'rail head radius seen by Hertz (knife edge)', &
-            default=0.3_wp, min=zero, min_open=.true.), &
-      preal('flange_clearance', 'm', 'lateral free play to the flange stop (knife edge; 0 = no stop)', &
-            default=zero, min=zero), &
-      preal('flange_stiffness', 'N/m', 'lateral stiffness of the flange stop (knife edge)', &
-            default=zero, min=zero, max=1.0e15_wp, max_open=.true., &
-            cond='> 0 when flange_clearance > 0'), &
-      preal('polach_friction_ratio', '-', 'Polach 2005: mu_inf / mu_0 (1 = no decay)', &
-            default=1.0_wp, min=zero, max=1.0_wp, min_open=.true.), &
-      preal('polach_friction_decay', 's/m', 'Polach 2005: B in mu = mu0((1-A) exp(-B w) + A)', &
-            default=zero, min=zero)])
+      only_with(preal('rail_precant', '-', 'inclination already contained in the rail profile file (tan)', &
+              default=zero, min=zero, max=0.1_wp), 'contact', 'profile'), &
+      only_with(preal('rail_precant_right', '-', 'inclination already contained in the right rail profile ' // &
+              'file (tan)', min=zero, max=0.1_wp, cond='default: rail_precant'), 'contact', 'profile'), &
+      only_with(preal('rail_crown_radius', 'm', 'rail head radius seen by Hertz (knife edge)', &
+              default=0.3_wp, min=zero, min_open=.true.), 'contact', 'knife_edge'), &
+      only_with(preal('flange_clearance', 'm', 'lateral free play to the flange stop (knife edge; 0 = no stop)', &
+              default=zero, min=zero), 'contact', 'knife_edge'), &
+      only_with(preal('flange_stiffness', 'N/m', 'lateral stiffness of the flange stop (knife edge)', &
+              default=zero, min=zero, max=1.0e15_wp, max_open=.true., &
+              cond='> 0 when flange_clearance > 0'), 'contact', 'knife_edge'), &
+      only_with(preal('polach_friction_ratio', '-', 'Polach 2005: mu_inf / mu_0 (1 = no decay)', &
+              default=1.0_wp, min=zero, max=1.0_wp, min_open=.true.), 'creep_law', 'polach'), &
+      only_with(preal('polach_friction_decay', 's/m', 'Polach 2005: B in mu = mu0((1-A) exp(-B w) + A)', &
+              default=zero, min=zero), 'creep_law', 'polach')])
 
     call add_group(s, 'element', .true., 'a suspension force element between two bodies', [ &
       unique_name('unique element name'), &
@@ -465,25 +494,38 @@ contains
       ref_param(pstr('body1', 'body the element acts from, or ground (the track frame)', &
                      default='ground'), 'body', 'ground'), &
       ref_param(pstr('body2', 'body the element acts on', required=.true.), 'body'), &
-      vec3('point1', 'm', 'attachment in body1''s frame (track frame for ground)'), &
-      vec3('point2', 'm', 'attachment in body2''s frame'), &
-      vec3('axes', 'rad', 'yaw roll pitch of the element axes relative to body1 / track frame'), &
-      vec3('stiffness', 'N/m', 'stiffness along the element axes'), &
-      vec3('damping', 'N s/m', 'viscous damping along the element axes'), &
-      vec3('preload', 'N', 'force at zero deflection along the element axes'), &
-      vec3('actuator_force', 'N', 'constant actuator force along the element axes'), &
-      vec3('torsion_stiffness', 'N m/rad', 'rotational stiffness about the element axes'), &
-      vec3('torsion_damping', 'N m s/rad', 'rotational damping about the element axes'), &
-      pstr('table_axis', 'axis of the force-deflection table', allowed='x|y|z', &
-           cond='required for table'), &
-      parray('table_deflection', 'm', 'deflections of the table', 0, increasing=.true., &
-             cond='required for table; strictly increasing'), &
-      parray('table_force', 'N', 'forces of the table', 0, &
-             cond='required for table; same length as table_deflection'), &
-      preal('clearance', 'm', 'free play before the element engages', default=zero, min=zero, &
-            cond='used by table only'), &
-      preal('series_stiffness', 'N/m', 'stiffness in series with the damper', min=zero, &
-            min_open=.true., cond='required for series_spring_damper')])
+      only_with(vec3('point1', 'm', 'attachment in body1''s frame (track frame for ground); a ' // &
+                     'torsion element is a pure couple and has none'), 'type', &
+                'spring_damper|table|series_spring_damper'), &
+      only_with(vec3('point2', 'm', 'attachment in body2''s frame'), 'type', &
+                'spring_damper|table|series_spring_damper'), &
+      only_with(vec3('axes', 'rad', 'yaw roll pitch of the element axes relative to body1 / track ' // &
+                     'frame (a series spring-damper acts along the line joining its points)'), 'type', &
+                'spring_damper|torsion|table'), &
+      only_with(vec3('stiffness', 'N/m', 'stiffness along the element axes'), 'type', 'spring_damper'), &
+      only_with(parray('damping', 'N s/m', 'viscous damping along the element axes', 3, &
+                       [zero, zero, zero], cond='table: ' // &
+                     'only the table_axis component, the others 0; series_spring_damper: along ' // &
+                     'the line, damping(1) > 0, the others 0'), 'type', &
+                'spring_damper|table|series_spring_damper'), &
+      only_with(vec3('preload', 'N', 'force at zero deflection along the element axes'), 'type', 'spring_damper'), &
+      only_with(vec3('actuator_force', 'N', 'constant actuator force along the element axes'), 'type', &
+                'spring_damper'), &
+      only_with(vec3('torsion_stiffness', 'N m/rad', 'rotational stiffness about the element axes'), &
+                'type', 'torsion'), &
+      only_with(vec3('torsion_damping', 'N m s/rad', 'rotational damping about the element axes'), &
+                'type', 'torsion'), &
+      only_with(pstr('table_axis', 'axis of the force-deflection table', allowed='x|y|z', &
+                     cond='required for table'), 'type', 'table'), &
+      only_with(parray('table_deflection', 'm', 'deflections of the table', 0, increasing=.true., &
+                       cond='required for table; strictly increasing'), 'type', 'table'), &
+      only_with(parray('table_force', 'N', 'forces of the table', 0, &
+                       cond='required for table; same length as table_deflection'), 'type', 'table'), &
+      only_with(preal('clearance', 'm', 'free play before the element engages', default=zero, min=zero), &
+                'type', 'table'), &
+      only_with(preal('series_stiffness', 'N/m', 'stiffness in series with the damper', min=zero, &
+                      min_open=.true., cond='required for series_spring_damper'), 'type', &
+                'series_spring_damper')])
 
     call add_group(s, 'external_force', .true., 'a prescribed force and moment on a body', [ &
       ref_param(pstr('body', 'body loaded', required=.true.), 'body'), &
@@ -651,6 +693,30 @@ contains
     end if
   end function range_text
 
+  !> Where a parameter is read, for messages and the reference: "type = spring_damper,
+  !> table or series_spring_damper", "with irregularity_file", "without survey_file";
+  !> '' for a parameter every kind of its group reads.
+  function used_text(p) result(t)
+    type(param_schema_t), intent(in) :: p
+    character(len=:), allocatable :: t
+    integer :: i, n
+    t = ''
+    n = size(p%used_values)
+    if (len(p%used_with) == 0 .or. n == 0) return
+    if (p%used_values(1)%s == '(given)') then
+      t = 'with ' // p%used_with
+    else if (p%used_values(1)%s == '(not given)') then
+      t = 'without ' // p%used_with
+    else
+      t = 'with ' // p%used_with // ' = '
+      do i = 1, n
+        if (i > 1 .and. i < n) t = t // ', '
+        if (i > 1 .and. i == n) t = t // ' or '
+        t = t // p%used_values(i)%s
+      end do
+    end if
+  end function used_text
+
   !> The reference tables of docs/input_reference.md, one per group.
   subroutine write_schema_markdown(unit)
     integer, intent(in) :: unit
@@ -676,6 +742,7 @@ contains
             if (p%unique) flags = flags // '; unique'
             if (p%must_exist) flags = flags // '; the file must exist'
             if (len(p%condition) > 0) notes = notes // ' (' // p%condition // ')'
+            if (len(used_text(p)) > 0) flags = flags // '; read only ' // used_text(p)
             if (len(flags) > 0) notes = notes // ' [' // flags(3:) // ']'
             write (unit, '(a)') '| `' // p%name // '` | ' // type_text(p) // ' | ' // p%unit // &
               ' | ' // default_text(p) // ' | ' // range_text(p) // ' | ' // notes // ' |'
