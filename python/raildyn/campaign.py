@@ -38,8 +38,9 @@ every file its deck reads (the deck, included decks at any depth, profile, irreg
 survey files: the runner lists them, ``raildyn check --json``), and the runner itself (version
 and executable). So a campaign can be resumed after an interruption (Ctrl-C stops it with
 "interrupted; rerun to resume", exit status 130); a completed run whose results file is
-damaged runs again. ``summary.csv`` collects parameters, status and metrics; a failed run's
-row says why (``error``) and at which simulated time (``failed_at``, s).
+damaged or incomplete runs again with a notice on stderr naming the file and the fault (the
+damaged file is kept as ``results.h5.damaged``). ``summary.csv`` collects parameters, status
+and metrics; a failed run's row says why (``error``) and at which simulated time (``failed_at``, s).
 
 Windows: ``window`` keeps the rows with time in ``[t_from, t_to]`` (s), ``window_position``
 those whose track position ``/vehicle/distance`` (the vehicle reference point) lies in
@@ -340,13 +341,20 @@ def inputs_digest(runner: str, exe: Path, run: Path) -> str | None:
     return h.hexdigest()
 
 
-def _completed_results(path: Path) -> bool:
-    """The results file opens and says its run completed (a damaged file is rerun)."""
+def _results_problem(path: Path) -> str:
+    """What is wrong with the results file of a run recorded as completed: '' when it opens
+    and says its run completed, else one line naming the file and the fault."""
+    if not path.exists():
+        return f"{path}: missing"
     try:
         with Results(path) as r:
-            return r.metadata.get("status") == "completed"
-    except (OSError, ValueError, KeyError):
-        return False
+            status = r.metadata.get("status")
+    except (OSError, ValueError, KeyError) as exc:
+        reason = " ".join(str(exc).split())
+        return f"{path}: damaged, cannot be read as a results file ({reason})"
+    if status != "completed":
+        return f"{path}: incomplete, its run status is {status!r}, not 'completed'"
+    return ""
 
 
 #: Set when the campaign is interrupted: runs in flight are stopped and not recorded.
@@ -397,9 +405,15 @@ def _failure(run: Path) -> tuple[str, float | str]:
     return message, when
 
 
-def run_one(exe: Path, run: Path, runner: str | None = None) -> dict[str, Any] | None:
+def run_one(exe: Path, run: Path, runner: str | None = None,
+            notice=None) -> dict[str, Any] | None:
     """Run one deck unless it completed before with the same inputs (run_inputs) and runner
-    (runner_identity); returns its status, None when the campaign was interrupted."""
+    (runner_identity); returns its status, None when the campaign was interrupted.
+
+    A run recorded as completed whose results file is damaged (unreadable, cut short) or
+    incomplete is run again, never silently: `notice` (default: print to stderr) gets one
+    line naming the file and the fault before the run starts, the file is kept beside the
+    new one as results.h5.damaged, and status.json records the reason (rerun_reason)."""
     status_file = run / "status.json"
     runner = runner or runner_identity(exe)
     digest = inputs_digest(runner, exe, run)
@@ -410,10 +424,17 @@ def run_one(exe: Path, run: Path, runner: str | None = None) -> dict[str, Any] |
         except json.JSONDecodeError:
             old = {}
         if old.get("exit_code") == 0 and old.get("inputs_sha256") == digest:
-            if _completed_results(run / "results.h5"):
+            problem = _results_problem(run / "results.h5")
+            if not problem:
                 old["reused"] = True
                 return old
-            rerun_reason = "its results file was damaged or incomplete"
+            rerun_reason = problem
+            kept = ""
+            if (run / "results.h5").exists():
+                (run / "results.h5").replace(run / "results.h5.damaged")
+                kept = f"; kept as {run / 'results.h5.damaged'}"
+            (notice or _notice)(f"raildyn campaign: {run.name}: completed before, but its results file "
+                                f"is unusable: {problem}; running it again{kept}")
     # nothing of an earlier attempt may be read as this run's outcome (_failure)
     status_file.unlink(missing_ok=True)
     (run / "results.h5").unlink(missing_ok=True)
@@ -429,6 +450,10 @@ def run_one(exe: Path, run: Path, runner: str | None = None) -> dict[str, Any] |
         status["error"], status["failed_at"] = _failure(run)
     status_file.write_text(json.dumps(status, indent=1))
     return status
+
+
+def _notice(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
 
 
 def reduce_channel(t: np.ndarray, y: np.ndarray, how: str,
@@ -642,7 +667,10 @@ def slurm_script(campaign: Campaign, exe: Path, runs: Sequence[Path]) -> Path:
 
 
 def run_campaign(campaign: Campaign, jobs: int | None = None, executor: str | None = None,
-                 submit: bool = False, progress=print) -> Path | None:
+                 submit: bool = False, progress=print, notice=None) -> Path | None:
+    """Run the campaign's decks (reusing completed runs) and write summary.csv; `progress`
+    gets one line per run as it finishes, `notice` (default: stderr) the notices of runs
+    that must run again because their results file is damaged (run_one)."""
     exe = find_raildyn(campaign)
     runs = write_decks(campaign)
     executor = executor or campaign.executor
@@ -659,15 +687,15 @@ def run_campaign(campaign: Campaign, jobs: int | None = None, executor: str | No
     _interrupted.clear()
     pool = ThreadPoolExecutor(max_workers=jobs)
     try:
-        futures = [pool.submit(run_one, exe, d, runner) for _, _, d in runs]
+        futures = [pool.submit(run_one, exe, d, runner, notice) for _, _, d in runs]
         for done, ((_, _, d), future) in enumerate(zip(runs, futures), start=1):
             status = future.result()
             if status is None:
                 continue
             state = "reused" if status.get("reused") else (
                 "ok" if status["exit_code"] == 0 else f"failed ({status.get('error', '')})")
-            if status.get("rerun_reason"):
-                state += f", run again because {status['rerun_reason']}"
+            if status.get("rerun_reason") and not status.get("reused"):
+                state += ", run again because its results file was damaged or incomplete"
             progress(f"[{done}/{len(runs)}] {d.name}: {state}")
     except KeyboardInterrupt:
         # Stop the runs in flight (unrecorded: a rerun resumes them) and start no other;

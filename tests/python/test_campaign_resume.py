@@ -184,14 +184,53 @@ def test_new_runner_reruns(tmp_path, raildyn_exe):
 
 
 @pytest.mark.campaign_errors
-def test_damaged_results_rerun_on_resume(tmp_path, raildyn_exe):
+def test_damaged_results_rerun_on_resume(tmp_path, raildyn_exe, capsys):
+    """A run recorded as completed whose results file is cut short runs again, never
+    silently: a notice naming the file and the fault before it runs, the damaged file kept
+    beside the new one, the reason in status.json; the summary then has its metric."""
     path = make_campaign(tmp_path, raildyn_exe)
     run(path)
     results = tmp_path / "runs" / "run0001" / "results.h5"
-    results.write_bytes(results.read_bytes()[:1000])
-    states, rows = run(path)
-    assert states == ["reused", "ok, run again because its results file was damaged or incomplete"]
-    damping_decay(rows, 400.0)
+    cut = results.read_bytes()[:1000]
+    results.write_bytes(cut)
+    notices = []
+    lines = []
+    summary = cp.run_campaign(cp.load_campaign(path), progress=lines.append, notice=notices.append)
+    assert [line.rsplit(": ", 1)[1] for line in lines] == [
+        "reused", "ok, run again because its results file was damaged or incomplete"]
+    assert len(notices) == 1 and "run0001" in notices[0] and str(results) in notices[0]
+    assert "damaged, cannot be read" in notices[0] and "running it again" in notices[0]
+    assert (results.parent / "results.h5.damaged").read_bytes() == cut
+    status = json.loads((results.parent / "status.json").read_text())
+    assert str(results) in status["rerun_reason"] and status["exit_code"] == 0
+    with open(summary) as f:
+        damping_decay(list(csv.DictReader(f)), 400.0)
+    # resumed once more: nothing to say, both reused
+    assert run(path)[0] == ["reused", "reused"]
+
+
+@pytest.mark.campaign_errors
+def test_incomplete_or_missing_results_rerun_on_resume_with_a_notice(tmp_path, raildyn_exe, capsys):
+    """From the command line: a results file that reads but whose run did not complete, and
+    one that is gone, each give one notice line on stderr (no traceback) and run again;
+    summary.csv is written with both metrics."""
+    path = make_campaign(tmp_path, raildyn_exe)
+    assert cp.main(["run", str(path)]) == 0
+    capsys.readouterr()
+    first = tmp_path / "runs" / "run0000" / "results.h5"
+    second = tmp_path / "runs" / "run0001" / "results.h5"
+    with h5py.File(first, "r+") as f:
+        f["meta"].attrs["status"] = "running"
+    second.unlink()
+    assert cp.main(["run", str(path)]) == 0
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    notices = sorted(l for l in err.splitlines() if l.startswith("raildyn campaign: run000"))
+    assert len(notices) == 2, err
+    assert str(first) in notices[0] and "incomplete" in notices[0] and "'running'" in notices[0]
+    assert str(second) in notices[1] and "missing" in notices[1]
+    with open(tmp_path / "runs" / "summary.csv") as f:
+        damping_decay(list(csv.DictReader(f)), 400.0)
 
 
 @pytest.mark.campaign_errors
