@@ -21,7 +21,7 @@ DECK = """&simulation title = 'drop', t_end = {t_end}, speed = 0.0, equilibrium 
       position = 0.0, 0.0, {z0!r}, frozen = 'x', 'y', 'yaw', 'roll' /
 &wheelset name = 'w1', body = 'ws1', contact = 'knife_edge', nominal_radius = {r0},
       contact_distance = 1.5, conicity = 0.05, creep_law = 'linear',
-      friction = 0.3, shear_modulus = 8.4e10, poisson = 0.25 {extra} /
+      shear_modulus = 8.4e10, poisson = 0.25 {extra} /
 """
 
 

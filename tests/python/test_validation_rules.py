@@ -657,7 +657,12 @@ def test_tgv_bogie_model_data_match_the_deck():
     assert f"stiffness = {p['kx']:.2e}, {p['ky']:.2e}".replace("e+0", "e") in text
     assert "mass = 1500.0" in text and "mass = 3020.0" in text
     assert f"conicity = {p['lam']}" in text and f"nominal_radius = {p['r0']}" in text
-    assert "contact_distance = 1.5" in text and "frame_offset = 1.5" in text
+    # contact_distance 2 e0 = 1.5 m is the documented default (the deck leaves it out, so that
+    # the profile scenes switching its wheelsets to profile contact override nothing it reads)
+    assert "frame_offset = 1.5" in text and "contact_distance" not in text.split("&wheelset", 1)[1]
+    assert 2 * p["e0"] == 1.5
+    reference = (V.REPO / "docs" / "input_reference.md").read_text()
+    assert re.search(r"^\| `contact_distance` \| real \| m \| 1\.5 \|", reference, re.M)
     assert "point1 = 0.0, 1.0, 0.0" in text
     track = (V.INPUTS / "tracks" / "tgv_designed_track.nml").read_text()
     assert "radius = 1000.0, side = 'left', cant = 0.050" in track

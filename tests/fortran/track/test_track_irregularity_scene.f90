@@ -67,7 +67,7 @@ contains
       "&body name = 'ws1', mass = 1500.0, ixx = 799.35, iyy = 93.75, izz = 799.35, position = 0.0, 0.0, 0.45 /" // nl // &
       "&wheelset name = 'w1', body = 'ws1', contact = 'knife_edge', nominal_radius = 0.45, " // &
       "contact_distance = 1.5, conicity = 0.10033, creep_law = 'linear', creep_saturation = 'none', " // &
-      "friction = 0.3, shear_modulus = 8.4e10, poisson = 0.25, contact_damping = 5.0e5 /" // nl // &
+      "shear_modulus = 8.4e10, poisson = 0.25, contact_damping = 5.0e5 /" // nl // &
       ! yaw spring k_psi = 2 kx (1 m)^2 = 1e6 N m/rad, no lateral or vertical stiffness
       "&element name = 'spring1', type = 'spring_damper', body1 = 'ground', body2 = 'ws1', " // &
       "point1 = 0.0, 1.0, 0.45, point2 = 0.0, 1.0, 0.0, stiffness = 5.0e5, 0.0, 0.0 /" // nl // &

@@ -302,7 +302,8 @@ contains
       pint('max_num_steps', '-', 'steps allowed between two outputs', 100000, min=1), &
       only_with(preal('fixed_step', 's', 'step of the fixed-step rk4 method', default=1.0e-4_wp, min=zero, &
                       min_open=.true.), 'method', 'rk4'), &
-      only_with(pint('max_order', '-', 'largest method order; 0 = method default', 0, min=0, max=12), &
+      only_with(pint('max_order', '-', 'largest method order; 0 = method default (bdf: at most 5, ' // &
+                     'checked when the scene is built; adams: at most 12)', 0, min=0, max=12), &
                 'method', 'bdf|adams'), &
       only_with(pstr('jacobian', 'Newton-matrix Jacobian of bdf: difference quotients grouping bodies ' // &
                      'that share no force element (coloured) or one state at a time (dense, CVODE)', &
