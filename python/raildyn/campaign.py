@@ -138,11 +138,23 @@ class Campaign:
     metrics: list[Metric] = field(default_factory=list)
     slurm_options: list[str] = field(default_factory=list)
     exe: Path | None = None
+    #: explicit parameter sets instead of the sweep's product (a campaign built in code, e.g.
+    #: the probes of raildyn critical-speed: raildyn.stability.run_probes)
+    variants: list[dict[str, Any]] | None = None
 
     def runs(self) -> list[dict[str, Any]]:
-        """Parameter sets of the Cartesian product, in a stable order."""
+        """Parameter sets: the variants if given, else the Cartesian product of the sweep, in
+        a stable order."""
+        if self.variants is not None:
+            return [dict(v) for v in self.variants]
         keys = list(self.sweep)
         return [dict(zip(keys, values)) for values in itertools.product(*self.sweep.values())]
+
+    def parameter_names(self) -> list[str]:
+        """The swept parameters (summary columns), in order of first appearance."""
+        if self.variants is None:
+            return list(self.sweep)
+        return list(dict.fromkeys(k for v in self.variants for k in v))
 
 
 def _fortran_value(value: Any, where: str) -> str:
@@ -632,7 +644,7 @@ def write_summary(campaign: Campaign) -> Path:
                 problems[str(exc)] = problems.get(str(exc), 0) + 1
         rows.append(row)
     path = campaign.output / "summary.csv"
-    fields = ["run", *campaign.sweep, "exit_code", "wall_time", "error", "failed_at",
+    fields = ["run", *campaign.parameter_names(), "exit_code", "wall_time", "error", "failed_at",
               *[m.name for m in campaign.metrics]]
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=fields)

@@ -89,6 +89,27 @@ def test_campaign_runs_and_metrics(campaign_file):
     assert not any("reused" in l for l in lines), lines
 
 
+def test_variants_and_speed_replaced_by_a_law(tmp_path, raildyn_exe):
+    """A campaign of explicit variants (how raildyn critical-speed runs its probes): a speed
+    law in the run deck replaces the base deck's constant speed, and a constant speed
+    replaces a base deck's law (docs/input_reference.md "Includes and overrides"). Distances
+    against the closed form: the integral of the piecewise-linear speed."""
+    (tmp_path / "base.nml").write_text(BASE)
+    (tmp_path / "law.nml").write_text(BASE.replace("speed = 10.0,", "speed_times = 0.0, 4.0, "
+                                                   "speed_values = 2.0, 6.0,"))
+    law = {"simulation.speed_times": [0.0, 2.0, 4.0], "simulation.speed_values": [10.0, 10.0, 20.0]}
+    for base, variants, distances in (("base.nml", [law, {"simulation.t_end": 3.0}], [50.0, 30.0]),
+                                      ("law.nml", [{"simulation.speed": 5.0}, {}], [20.0, 16.0])):
+        camp = cp.Campaign(path=tmp_path / base, name="variants", deck=tmp_path / base,
+                           output=tmp_path / ("runs_" + base), jobs=2, exe=raildyn_exe, variants=variants,
+                           metrics=[cp.Metric("distance", "vehicle/distance", "final")])
+        with open(cp.run_campaign(camp, progress=lambda *_: None)) as f:
+            rows = list(csv.DictReader(f))
+        assert [r["exit_code"] for r in rows] == ["0", "0"], rows
+        assert [float(r["distance"]) for r in rows] == pytest.approx(distances, rel=1e-9)
+        assert list(rows[0])[1:1 + len(camp.parameter_names())] == camp.parameter_names()
+
+
 def test_failed_run_is_reported(campaign_file, tmp_path):
     text = campaign_file.read_text().replace('[500.0, 1000.0]', '[-1.0]')
     campaign_file.write_text(text)

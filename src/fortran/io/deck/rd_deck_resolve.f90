@@ -149,11 +149,34 @@ contains
     end if
     associate (t => entities(target))
       t%contributors = [t%contributors, e%source]
+      call replace_speed(t, e)
       do i = 1, size(e%values)
         if (.not. e%values(i)%given) cycle
         call merge_value(t%values(i), e%values(i))
       end do
     end associate
+
+  contains
+
+    !> The running speed is one quantity written two ways (&simulation speed, or the law
+    !> speed_times + speed_values, which exclude each other): a later file that gives one
+    !> replaces the other from an earlier file, so that a campaign or critical-speed probe can
+    !> run a deck with a constant speed at a speed law and the other way round.
+    subroutine replace_speed(t, e)
+      type(deck_entity_t), intent(inout) :: t
+      type(deck_entity_t), intent(in) :: e
+      integer :: js, jt, jv
+      if (schema%groups(e%group)%name /= 'simulation') return
+      js = find_param(schema%groups(e%group), 'speed')
+      jt = find_param(schema%groups(e%group), 'speed_times')
+      jv = find_param(schema%groups(e%group), 'speed_values')
+      if (e%values(jt)%given .or. e%values(jv)%given) then
+        t%values(js) = param_value_t()
+      else if (e%values(js)%given) then
+        t%values(jt) = param_value_t()
+        t%values(jv) = param_value_t()
+      end if
+    end subroutine replace_speed
   end subroutine merge_or_append
 
   !> Later value over earlier: whole assignments replace, element
