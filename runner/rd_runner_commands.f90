@@ -48,7 +48,8 @@ module rd_runner_commands
     'usage: raildyn track DECK [-o OUT.h5] [--step DS] [--csv FILE] [--plot FILE]'
   character(len=*), parameter :: critical_speed_usage = &
     'usage: raildyn critical-speed DECK --method linear|bisection|ramp [--speeds LO,HI] [--resolution DV] ' // &
-    '[--dofs ...] [--channel SERIES] [--t-end T] [--t-from T] [--jobs N] [--hold T] [--duration T] [--work DIR] [--json]'
+    '[--dofs ...] [--channel SERIES] [--t-end T] [--t-from T] [--jobs N] [--backend local|slurm] ' // &
+    '[--slurm-option OPT] [--hold T] [--duration T1,T2] [--work DIR] [--json]'
   character(len=*), parameter :: export_usage = 'usage: raildyn export RESULTS.h5 --csv DIR'
   character(len=*), parameter :: assess_usage = &
     'usage: raildyn assess RESULTS.h5 [--json] [--csv DIR] [--html DIR] [--prudhomme-alpha ALPHA] ' // &

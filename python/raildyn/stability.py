@@ -6,8 +6,10 @@ validation harness); and `raildyn critical-speed` (the runner hands it to ``main
 
 linear: bracketing the zero crossing of the least-damped mode's damping ratio on the root
 locus (`raildyn eigen`); bisection: the sign of the growth rate of disturbed runs at
-constant speed (probes run in parallel, ``--jobs``); ramp: the speed at which the hunting
-stops while the speed is lowered (one run through the C API).
+constant speed; ramp: the speed at which the hunting stops while the speed is lowered, at
+two or more ramp rates extrapolated to a zero rate. The probe runs of both nonlinear methods
+are campaigns of raildyn.campaign (``run_probes``): ``--jobs`` at once in a local process
+pool, or a Slurm job array per round (``--backend slurm``).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import math
 import os
 import subprocess
 import sys
@@ -27,7 +30,6 @@ from typing import Callable, Sequence
 import numpy as np
 
 from .executable import ExecutableNotFound, find_raildyn_executable
-from .model import RaildynError
 from .results import Results
 
 __all__ = ["Mode", "mode_from_json", "read_root_locus", "StabilityError", "half_cycle_peaks", "growth_rate",
@@ -221,27 +223,61 @@ def hunting_channel(deck, speed: float, exe=None) -> str:
     return f"bodies/{lateral[0]['body']}/position_track:y"
 
 
-def _probe_run(deck: Path, speed: float, t_end: float, work: Path, exe) -> Path:
-    """A run of ``deck`` at constant ``speed`` to ``t_end`` (an including deck with the
-    overrides, docs/input_reference.md "Includes and overrides")."""
-    tag = f"v{speed:.6f}".replace(".", "_")
-    probe = work / f"{tag}.nml"
-    probe.write_text(f"! raildyn critical-speed probe\n&include file = '{deck.resolve()}' /\n"
-                     f"&simulation speed = {speed:.17g}, t_end = {t_end:.17g} /\n")
-    results = work / f"{tag}.h5"
-    proc = subprocess.run([os.fspath(_runner(exe)), "run", os.fspath(probe), "-o", os.fspath(results), "--quiet"],
-                          capture_output=True, text=True)
-    if proc.returncode not in (0, 3):      # 3: a physics limit (lift-off): the rows written still count
-        raise StabilityError(f"probe at {speed:g} m/s: raildyn run exited with {proc.returncode}: "
-                             f"{proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else ''}")
-    return results
+#: Where the probe runs of the nonlinear methods run (raildyn.campaign's executors).
+BACKENDS = ("local", "slurm")
 
 
-def probe_growth(deck, speed: float, channel: str, t_from: float, t_end: float, work: Path, exe=None) -> dict:
-    """Growth rate [1/s] of ``channel`` over [t_from, t_end] in a run at ``speed``."""
-    path = _probe_run(Path(deck), speed, t_end, work, exe)
+def run_probes(deck, variants: Sequence[dict], work: Path, exe=None, backend: str = "local", jobs: int = 1,
+               slurm_options: Sequence[str] = (), tag: str = "probes") -> list[Path]:
+    """Runs of ``deck`` with the ``&simulation`` overrides of each variant ({"simulation.speed":
+    40.0, ...}), as one campaign of raildyn.campaign: an including deck per run (docs/
+    input_reference.md "Includes and overrides") under ``work/tag/runNNNN``, run by a local
+    pool of ``jobs`` processes or as one Slurm job array (sbatch --wait; ``slurm_options`` are
+    its #SBATCH lines). Returns each variant's results file, in order. A run that failed
+    (other than a physics limit, exit 3, whose rows written still count) or that Slurm did
+    not run is a StabilityError naming it."""
+    from . import campaign as cp
+    if backend not in BACKENDS:
+        raise StabilityError(f"backend must be one of {BACKENDS}, got {backend!r}")
+    deck = Path(deck).resolve()
+    messages: list[str] = []
+    try:
+        exe_path = find_raildyn_executable(exe).resolve()
+        camp = cp.Campaign(path=deck, name=f"raildyn_critical_speed_{tag}", deck=deck,
+                           output=(Path(work) / tag).resolve(), executor=backend, jobs=max(1, jobs),
+                           slurm_options=list(slurm_options), exe=exe_path, variants=list(variants))
+        cp.run_campaign(camp, jobs=max(1, jobs), executor=backend, submit=True, progress=messages.append)
+    except cp.CampaignError as exc:
+        raise StabilityError(f"probe runs: {exc}") from None
+    paths = []
+    for i, params in enumerate(camp.runs()):
+        run = cp.run_dir(camp, i)
+        status = cp._read_status(run)
+        what = ", ".join(f"{k.split('.', 1)[1]} = {v}" for k, v in params.items())
+        if "exit_code" not in status:
+            raise StabilityError(f"probe run {run} ({what}) has no status: it did not run"
+                                 + (f" ({'; '.join(m for m in messages if m)})" if any(messages) else ""))
+        if status["exit_code"] not in (0, 3):
+            raise StabilityError(f"probe run {run} ({what}): raildyn run exited with {status['exit_code']}: "
+                                 f"{status.get('error', '')}")
+        paths.append(run / "results.h5")
+    return paths
+
+
+def _series(path: Path, channel: str) -> tuple[np.ndarray, np.ndarray]:
+    """Time and the first component of ``channel`` in the results ``path``."""
     with Results(path) as r:
-        t, y = r.time, r.get(channel)
+        try:
+            y = r.get(channel)
+        except KeyError:
+            raise StabilityError(f"{path}: no series {channel!r} (give --channel)") from None
+        return r.time, (y[:, 0] if y.ndim > 1 else y)
+
+
+def growth_of(path: Path, speed: float, channel: str, t_from: float, t_end: float) -> dict:
+    """Growth rate [1/s] of ``channel`` over [t_from, t_end] in the results ``path`` of a run
+    at ``speed``, its half-cycle peaks and frequency."""
+    t, y = _series(path, channel)
     m = (t >= t_from - 1e-12) & (t <= t_end + 1e-12)
     try:
         rate, peaks = growth_rate(t[m], y[m])
@@ -249,6 +285,13 @@ def probe_growth(deck, speed: float, channel: str, t_from: float, t_end: float, 
         raise StabilityError(f"probe at {speed:g} m/s, {channel}: {exc}") from None
     return {"speed": speed, "growth_rate": rate, "peaks": peaks,
             "frequency_hz": oscillation_frequency(*half_cycle_peaks(t[m], y[m], GROWTH_FLOOR)[:1])}
+
+
+def probe_growth(deck, speed: float, channel: str, t_from: float, t_end: float, work: Path, exe=None) -> dict:
+    """Growth rate [1/s] of ``channel`` over [t_from, t_end] in one run at ``speed``."""
+    (path,) = run_probes(deck, [{"simulation.speed": float(speed), "simulation.t_end": float(t_end)}], work, exe,
+                         tag=f"v{speed:.6f}".replace(".", "_"))
+    return growth_of(path, speed, channel, t_from, t_end)
 
 
 def oscillation_frequency(peak_times: np.ndarray) -> float | None:
@@ -272,18 +315,28 @@ def mode_near(deck, speed: float, frequency_hz: float | None, exe=None) -> dict:
 
 def bisection_critical_speed(deck, lo: float, hi: float, resolution: float, channel: str, t_from: float,
                              t_end: float, work: Path, exe=None, jobs: int = 1,
-                             probe: Callable[[float], dict] | None = None) -> CriticalSpeed:
+                             probe: Callable[[float], dict] | None = None, backend: str = "local",
+                             slurm_options: Sequence[str] = ()) -> CriticalSpeed:
     """The speed where the growth rate of a disturbed run changes sign (the deck disturbs the
     vehicle itself, e.g. a lateral force pulse): probes at lo and hi, then the bracket cut
-    into jobs + 1 parts by ``jobs`` probes run in parallel, until it is at most 2 x
-    ``resolution`` wide. ``probe(speed)`` -> {"speed", "growth_rate", "peaks", ...} replaces
-    ``probe_growth`` (the validation harness runs its probes as its own cases' variants)."""
+    into jobs + 1 parts by ``jobs`` probes run at once, until it is at most 2 x
+    ``resolution`` wide. Each round of probes is one campaign (run_probes: a local pool of
+    ``jobs`` processes, or a Slurm job array with ``backend = "slurm"``). ``probe(speed)`` ->
+    {"speed", "growth_rate", "peaks", ...} replaces those runs (the validation harness runs
+    its probes as its own cases' variants; ``jobs`` of them at once in threads)."""
     probes: list[dict] = []
-    probe = probe or (lambda v: probe_growth(deck, v, channel, t_from, t_end, work, exe))
+    rounds = [0]
 
     def rates(speeds):
-        with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-            got = list(pool.map(probe, speeds))
+        if probe is not None:
+            with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+                got = list(pool.map(probe, speeds))
+        else:
+            rounds[0] += 1
+            paths = run_probes(deck, [{"simulation.speed": float(v), "simulation.t_end": float(t_end)}
+                                      for v in speeds], work, exe, backend, jobs, slurm_options,
+                               tag=f"bisection{rounds[0]:02d}")
+            got = [growth_of(path, v, channel, t_from, t_end) for path, v in zip(paths, speeds)]
         probes.extend(got)
         return [p["growth_rate"] for p in got]
 
@@ -303,58 +356,104 @@ def bisection_critical_speed(deck, lo: float, hi: float, resolution: float, chan
     return CriticalSpeed("bisection", 0.5 * (a + b), 0.5 * (b - a), (a, b), None, probes)
 
 
-def ramp_critical_speed(deck, v_start: float, v_end: float, hold: float, duration: float, channel: str,
-                        work: Path, exe=None, step: float = 0.01, threshold: float = 0.5) -> CriticalSpeed:
-    """Speed ramp-down from hunting: hold ``v_start`` for ``hold`` seconds (the deck's own
-    disturbance starts the hunting), then lower the speed linearly to ``v_end`` over
-    ``duration`` seconds (through the C API, set_input "speed" every ``step`` seconds). The
-    critical speed is the speed at the last half-cycle peak of ``channel`` above ``threshold``
-    x the hunting amplitude at the end of the hold; resolution: the speed lost over one
-    hunting period there (peaks are that far apart). Once below the critical speed the
-    hunting takes time to die out, so a ramp reads low by its lag, the more the faster it
-    is: compare two durations (docs/theory_stability.md section 5)."""
-    from .model import Model
-    deck = Path(deck)
-    ramp_deck = work / "ramp.nml"
-    results = (work / "ramp.h5").resolve()
-    ramp_deck.write_text(f"! raildyn critical-speed ramp\n&include file = '{deck.resolve()}' /\n"
-                         f"&simulation speed = {v_start:.17g}, t_end = {hold + duration:.17g} /\n"
-                         f"&output file = '{results}' /\n")
-    with Model.from_file(ramp_deck) as model:
-        model.initialize(write_output=True)
-        model.advance(hold)
-        t = hold
-        while t < hold + duration - 1e-12:
-            t = min(t + step, hold + duration)
-            model.set_input("speed", v_start + (v_end - v_start) * (t - hold) / duration)
-            model.advance(t)
-        model.finalize()
-    with Results(results) as r:
-        time, y, v = r.time, r.get(channel), r.get("vehicle/speed")[:, 0]
+def ramp_reading(time: np.ndarray, y: np.ndarray, speed: np.ndarray, hold: float,
+                 threshold: float = 0.5) -> dict:
+    """What one ramp-down run reads: the speed at the last half-cycle peak of ``y`` after the
+    hold that is above ``threshold`` x the hunting amplitude at the end of the hold (the
+    last held peak), and the hunting period there. Raises StabilityError when there was no
+    hunting at the end of the hold; ``speed`` is None (with ``note``) when the hunting died
+    in the first ramp period or did not die by the end of the ramp."""
     tp, ap = half_cycle_peaks(time, y, GROWTH_FLOOR)
     held = ap[tp <= hold]
     if held.size < 2:
-        raise StabilityError(f"no hunting at {v_start:g} m/s by the end of the hold ({hold:g} s): "
-                             "start the ramp higher or hold longer")
+        raise StabilityError(f"no hunting by the end of the hold ({hold:g} s): start the ramp higher or "
+                             "hold longer")
     amplitude = float(held[-1])
-    after = (tp > hold)
+    speed_at = lambda tt: float(np.interp(tt, time, speed))
+    peaks = [{"time": float(a), "speed": speed_at(a), "peak": float(b)} for a, b in zip(tp, ap)]
+    out = {"amplitude": amplitude, "peaks": peaks, "speed": None, "period": None, "note": ""}
+    after = tp > hold
     alive = tp[after][ap[after] > threshold * amplitude]
-    speed_at = lambda tt: float(np.interp(tt, time, v))
-    probes = [{"time": float(a), "speed": speed_at(a), "peak": float(b)} for a, b in zip(tp, ap)]
     if alive.size == 0:
-        return CriticalSpeed("ramp", None, None, (v_start, v_start), None, probes,
-                             f"the hunting died during the first ramp period: start the ramp higher")
+        out["note"] = "the hunting died during the first ramp period: start the ramp higher"
+        return out
     t_last = float(alive[-1])
     if t_last >= tp[-1] and ap[-1] > threshold * amplitude:
-        return CriticalSpeed("ramp", None, None, (v_end, v_end), None, probes,
-                             f"still hunting at {v_end:g} m/s: ramp further down")
+        out["note"] = f"still hunting at {speed_at(time[-1]):g} m/s: ramp further down"
+        return out
     near = np.abs(tp - t_last) <= 2.0 * float(np.median(np.diff(tp)))   # the last periods of hunting
-    period = 2 * float(np.median(np.diff(tp[near]))) if near.sum() > 2 else 2 * float(np.median(np.diff(tp)))
-    vc = speed_at(t_last)
-    res = abs(v_start - v_end) / duration * period
-    return CriticalSpeed("ramp", vc, res, (vc - res, vc + res), mode_near(deck, vc, 1.0 / period, exe), probes,
-                         f"hunting amplitude {amplitude:.3g} at {v_start:g} m/s; last peak above "
-                         f"{threshold:g} of it at t = {t_last:.3f} s")
+    out["period"] = 2 * float(np.median(np.diff(tp[near]))) if near.sum() > 2 else 2 * float(np.median(np.diff(tp)))
+    out["speed"] = speed_at(t_last)
+    out["time"] = t_last
+    return out
+
+
+#: Smallest exponent p of the ramp's lag ~ rate^p the ramp's extrapolation allows for
+#: (ramp_critical_speed): below the 0.39-0.56 measured on the tests' knife-edge wheelset and
+#: theory's 1/2 and 2/3 (docs/theory_stability.md section 5a).
+RAMP_LAG_P_MIN = 1.0 / 3.0
+
+
+def ramp_critical_speed(deck, v_start: float, v_end: float, hold: float, durations: Sequence[float],
+                        channel: str, work: Path, exe=None, threshold: float = 0.5, backend: str = "local",
+                        jobs: int = 1, slurm_options: Sequence[str] = ()) -> CriticalSpeed:
+    """Speed ramp-down from hunting at several ramp rates, extrapolated to a zero rate
+    (docs/theory_stability.md section 5a). Each ramp is a run of the deck with the speed law
+    (``&simulation speed_times, speed_values``) ``v_start`` for ``hold`` seconds (the deck's
+    own disturbance starts the hunting), then linearly down to ``v_end`` over one of
+    ``durations`` [s]; the ramps run at once as one campaign (run_probes: local pool or Slurm
+    job array). Each reads the speed at which its hunting has died (ramp_reading), low by a
+    lag that grows with the rate a as a^p: p = 1 for a decay at a fixed rate, 1/2 when the
+    decay rate grows linearly below the critical speed, 2/3 for the slow passage through
+    the fold of a subcritical limit cycle; measured 0.39-0.56 on the knife-edge wheelset of
+    the tests (section 5a). From the two slowest ramps (rates a1 < a2, readings v1, v2) the
+    zero-rate speed is taken between the extrapolations v1 + (v1 - v2) / ((a2/a1)^p - 1) with
+    p = 1 and p = P_MIN = 1/3: the answer is their midpoint, the resolution half their spread
+    (at least the speed lost over one hunting period). With one duration: that ramp's
+    reading, low by its unknown lag (the note says so)."""
+    durations = sorted(float(d) for d in durations)
+    if not durations or durations[0] <= 0:
+        raise StabilityError("ramp durations must be > 0 s")
+    variants = [{"simulation.speed_times": [0.0, float(hold), float(hold + d)],
+                 "simulation.speed_values": [float(v_start), float(v_start), float(v_end)],
+                 "simulation.t_end": float(hold + d)} for d in durations]
+    paths = run_probes(deck, variants, work, exe, backend, jobs, slurm_options, tag="ramps")
+    probes, readings = [], []
+    for d, path in zip(durations, paths):
+        time, y = _series(path, channel)
+        _, v = _series(path, "vehicle/speed")
+        try:
+            got = ramp_reading(time, y, v, hold, threshold)
+        except StabilityError as exc:
+            raise StabilityError(f"ramp from {v_start:g} m/s: {exc}") from None
+        rate = abs(v_start - v_end) / d
+        probes.append({"duration": d, "rate": rate, "critical_speed": got["speed"],
+                       "amplitude": got["amplitude"], "peaks": got["peaks"]})
+        if got["speed"] is None:
+            return CriticalSpeed("ramp", None, None, (v_end, v_start), None, probes,
+                                 f"ramp over {d:g} s: {got['note']}")
+        readings.append((rate, got))
+    a1, slow = readings[-1]                     # the slowest ramp (durations ascending)
+    v1 = slow["speed"]
+    period_speed = a1 * slow["period"]          # the speed lost over one hunting period
+    if len(readings) == 1:
+        vc, res = v1, period_speed
+        note = "one ramp: it reads low by its lag (give two durations to extrapolate)"
+    else:
+        a2, fast = readings[-2]
+        v2 = fast["speed"]
+        if v1 > v2:
+            lo_p1 = v1 + (v1 - v2) / (a2 / a1 - 1)
+            hi_pmin = v1 + (v1 - v2) / ((a2 / a1) ** RAMP_LAG_P_MIN - 1)
+            vc, res = 0.5 * (lo_p1 + hi_pmin), max(0.5 * (hi_pmin - lo_p1), period_speed)
+            note = (f"ramps at {a1:.3g} and {a2:.3g} m/s/s read {v1:.3f} and {v2:.3f} m/s; zero-rate "
+                    f"extrapolation {lo_p1:.3f} (lag ~ rate) to {hi_pmin:.3f} m/s (lag ~ rate^(1/3))")
+        else:
+            vc, res = v1, max(v2 - v1, period_speed)
+            note = (f"the slower ramp ({a1:.3g} m/s/s) read {v1:.3f} m/s, not above the faster one's "
+                    f"{v2:.3f} m/s: no lag to extrapolate")
+    return CriticalSpeed("ramp", vc, res, (vc - res, vc + res), mode_near(deck, vc, 1.0 / slow["period"], exe),
+                         probes, f"hunting amplitude {slow['amplitude']:.3g} at {v_start:g} m/s; {note}")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -382,9 +481,17 @@ def main(argv: list[str] | None = None) -> int:
                                           "least-damped linear mode at HI)")
     parser.add_argument("--t-end", type=float, default=8.0, help="bisection: length of each probe run [s]")
     parser.add_argument("--t-from", type=float, default=0.5, help="bisection: growth measured from [s]")
-    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="bisection: probes run at once")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                        help="bisection, ramp: probe runs at once (local backend; Slurm: the array's size)")
+    parser.add_argument("--backend", choices=list(BACKENDS), default="local",
+                        help="bisection, ramp: where the probe runs run (raildyn campaign's executors: a "
+                             "local process pool, or a Slurm job array per round, sbatch --wait)")
+    parser.add_argument("--slurm-option", action="append", default=[], metavar="OPT",
+                        help="an #SBATCH line of the probes' job arrays (repeatable), e.g. --time=00:30:00")
     parser.add_argument("--hold", type=float, default=4.0, help="ramp: time at HI before the ramp [s]")
-    parser.add_argument("--duration", type=float, default=20.0, help="ramp: ramp time from HI to LO [s]")
+    parser.add_argument("--duration", default="20,40",
+                        help="ramp: ramp times from HI to LO [s], comma-separated (each a ramp; the slowest "
+                             "is the answer, the next one its convergence check)")
     parser.add_argument("--work", help="folder for probe decks and results (default: a temporary one)")
     parser.add_argument("--exe", help="the raildyn runner (default: raildyn.executable lookup)")
     parser.add_argument("--json", action="store_true", help="one JSON object on stdout")
@@ -397,6 +504,14 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--speeds expects 0 <= LO < HI, got {args.speeds!r}")
     if not args.resolution > 0:
         parser.error("--resolution expects a speed > 0 in m/s")
+    if args.jobs < 1:
+        parser.error(f"--jobs expects a number of runs >= 1, got {args.jobs}")
+    try:
+        durations = [float(v) for v in args.duration.split(",")]
+    except ValueError:
+        parser.error(f"--duration expects ramp times in s, comma-separated, got {args.duration!r}")
+    if not all(d > 0 for d in durations):
+        parser.error(f"--duration expects ramp times > 0 s, got {args.duration!r}")
     if not Path(args.deck).is_file():
         print(f"raildyn: error: {args.deck}: no such deck file", file=sys.stderr)
         return 1
@@ -410,19 +525,18 @@ def main(argv: list[str] | None = None) -> int:
                 channel = args.channel or hunting_channel(args.deck, hi, args.exe)
                 if args.method == "bisection":
                     answer = bisection_critical_speed(args.deck, lo, hi, args.resolution, channel, args.t_from,
-                                                      args.t_end, work, args.exe, args.jobs)
+                                                      args.t_end, work, args.exe, args.jobs, backend=args.backend,
+                                                      slurm_options=args.slurm_option)
                     if answer.critical_speed is not None:
                         # the mode shape at the crossing: the linear mode of the growing motion's frequency
                         above = min((p for p in answer.probes if p["speed"] >= answer.bracket[1]),
                                     key=lambda p: p["speed"])
                         answer.mode = mode_near(args.deck, answer.critical_speed, above["frequency_hz"], args.exe)
                 else:
-                    answer = ramp_critical_speed(args.deck, hi, lo, args.hold, args.duration, channel, work,
-                                                 args.exe)
+                    answer = ramp_critical_speed(args.deck, hi, lo, args.hold, durations, channel, work,
+                                                 args.exe, backend=args.backend, jobs=args.jobs,
+                                                 slurm_options=args.slurm_option)
                 answer.note = (answer.note + "; " if answer.note else "") + f"channel {channel}"
-    except RaildynError as exc:           # the ramp's run through the C API
-        print(f"raildyn: error: {exc.message}", file=sys.stderr)
-        return exc.status
     except (StabilityError, ExecutableNotFound, OSError) as exc:
         print(f"raildyn: error: {exc}", file=sys.stderr)
         return 2 if isinstance(exc, StabilityError) else 4

@@ -68,3 +68,52 @@ def make_results_file(tmp_path):
     def make(name, time, series, **kwargs):
         return write_layout_file(tmp_path / name, time, series, **kwargs)
     return make
+
+
+def free_port():
+    import socket
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def slurm(tmp_path):
+    """A real single-node Slurm cluster on loopback for one test (support/slurm_single_node.sh:
+    munged, slurmctld and slurmd under a temporary folder); yields the environment that
+    points Slurm's clients at it (SLURM_CONF). Its daemons are stopped by their PIDs."""
+    import shutil
+    import signal
+    import subprocess
+    import tempfile
+    import time
+    for tool in ("slurmctld", "slurmd", "sbatch", "munged"):
+        if not (shutil.which(tool) or Path("/usr/sbin", tool).exists()):
+            pytest.fail(f"{tool} not installed (scripts/setup.sh installs Slurm for the tests)")
+    if os.geteuid() != 0:
+        pytest.fail("the single-node Slurm of this test needs root")
+    # munged runs as user 'munge': its directory must be reachable for it (pytest's own
+    # temporary directories are private to root)
+    d = Path(tempfile.mkdtemp(prefix="raildyn-slurm-", dir="/tmp"))
+    d.chmod(0o755)
+    start = subprocess.run(["bash", str(Path(__file__).resolve().parent / "support" / "slurm_single_node.sh"),
+                            str(d / "c"), str(free_port()), str(free_port())], capture_output=True, text=True,
+                           timeout=60)
+    assert start.returncode == 0, start.stdout + start.stderr
+    d = d / "c"
+    env = dict(os.environ, SLURM_CONF=str(d / "slurm.conf"))
+    deadline = time.time() + 30
+    while time.time() < deadline:
+        out = subprocess.run(["sinfo", "-h", "-o", "%T"], env=env, capture_output=True, text=True)
+        if out.stdout.strip() in ("idle", "mixed", "allocated"):
+            break
+        time.sleep(0.5)
+    else:
+        pytest.fail(f"slurm did not come up: {out.stdout} {out.stderr}")
+    yield env
+    for pid_file in (d / "slurmd.pid", d / "slurmctld.pid", d / "munge" / "munged.pid"):
+        try:
+            os.kill(int(pid_file.read_text().split()[0]), signal.SIGTERM)
+        except (OSError, ValueError):
+            pass
+    shutil.rmtree(d.parent, ignore_errors=True)
