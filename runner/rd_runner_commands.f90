@@ -6,6 +6,7 @@ module rd_runner_commands
   use rd_kinds, only: wp
   use rd_error, only: error_t, RD_ERR_INPUT
   use rd_scene, only: scene_t, raildyn_version
+  use rd_integrator_settings, only: integrator_stats_t
   use rd_deck, only: deck_string_t
   use rd_cmd_hertz, only: run_hertz_command, hertz_usage
   use rd_cmd_creep, only: run_creep_command, creep_usage
@@ -323,13 +324,13 @@ contains
       if (allocated(error)) exit
       call system_clock(clock)
       if (show .and. (clock - last_report) * 2 > rate) then
-        call print_progress(scene%time(), t_end, real(clock - clock0, wp) / rate)
+        call print_progress(scene, t_end, real(clock - clock0, wp) / rate)
         last_report = clock
       end if
     end do
     if (show) then
       call system_clock(clock)
-      call print_progress(scene%time(), t_end, real(clock - clock0, wp) / rate)
+      call print_progress(scene, t_end, real(clock - clock0, wp) / rate)
       write (error_unit, '(a)') ''
     end if
     if (allocated(error)) then
@@ -345,14 +346,22 @@ contains
     status = 0
   end subroutine command_run
 
-  subroutine print_progress(t, t_end, wall)
-    real(wp), intent(in) :: t, t_end, wall
-    character(len=120) :: line
-    real(wp) :: speed
+  !> One line, rewritten in place: simulated time, real-time factor, and the integrator's
+  !> steps and last step size (a step size that collapses in a quiet scene is worth seeing
+  !> while the run goes on, not only in the completion line).
+  subroutine print_progress(scene, t_end, wall)
+    type(scene_t), intent(inout) :: scene
+    real(wp), intent(in) :: t_end, wall
+    character(len=160) :: line
+    type(integrator_stats_t) :: stats
+    real(wp) :: speed, t
+    t = scene%time()
+    call scene%integrator_stats(stats)
     speed = 0
     if (wall > 0) speed = t / wall
-    write (line, '(a,f10.3,a,f10.3,a,f6.1,a,es9.2,a)') 't = ', t, ' s / ', t_end, ' s (', &
-      100 * t / max(t_end, tiny(t_end)), '%), ', speed, ' x real time'
+    write (line, '(a,f10.3,a,f10.3,a,f6.1,a,es9.2,a,i0,a,es8.1,a)') 't = ', t, ' s / ', t_end, ' s (', &
+      100 * t / max(t_end, tiny(t_end)), '%), ', speed, ' x real time, ', stats%steps, ' steps, h = ', &
+      stats%last_step, ' s'
     write (error_unit, '(a,a)', advance='no') achar(13), trim(line)
     flush (error_unit)
   end subroutine print_progress

@@ -36,7 +36,7 @@ WS1_MASS = np.diag([1813.0, 1813.0, 1813.0, 1120.0, 1120.0, 112.0])   # x y z ya
 
 
 def write_deck(tmp: Path, name: str, wheelset_extra: str) -> Path:
-    text = f"&include file = '{ROOT / 'inputs' / 'manchester_v1_tc1.nml'}' /\n"
+    text = f"&include file = '{ROOT / 'inputs' / 'manchester_v1_tc1_elastic.nml'}' /\n"
     if wheelset_extra:
         text += "".join(f"&wheelset name = '{w}', {wheelset_extra} /\n" for w in WHEELSETS)
     path = tmp / f"{name}.nml"

@@ -1,5 +1,5 @@
 !> The scene's coloured Jacobian (rd_scene_jacobian + rd_coloured_jacobian) on real decks:
-!>  (c) the coupling graph of Manchester vehicle 1 (inputs/manchester_v1_tc1.nml) colours
+!>  (c) the coupling graph of Manchester vehicle 1 (inputs/manchester_v1_tc1_elastic.nml) colours
 !>      into {car}, {bogie1, ws3}, {bogie2, ws1}, {ws2, ws4}: 4 groups, 10 + 3 x 12 = 46
 !>      RHS calls per Jacobian (the car's x is frozen) instead of 82;
 !>  (a) on the 7-body TGV 001 vehicle (inputs/tgv_vehicle_straight.nml) at a perturbed
@@ -97,7 +97,7 @@ contains
     ! deck order: car, bogie1, bogie2, ws1, ws2, ws3, ws4
     integer, parameter :: expected(7) = [1, 2, 3, 3, 4, 2, 4]
 
-    call scene%load_file('inputs/manchester_v1_tc1.nml', error)
+    call scene%load_file('inputs/manchester_v1_tc1_elastic.nml', error)
     if (.not. allocated(error)) call scene%build(error)
     call stop_on(error, 'Manchester deck')
     mbs => scene%system()

@@ -171,7 +171,7 @@ contains
     integer :: ib, j, k, n, iw
     logical :: rec, is_wheelset
 
-    call scene%load_string("&include file = 'manchester_v1_tc1.nml' /" // nl // &
+    call scene%load_string("&include file = 'manchester_v1_tc1_elastic.nml' /" // nl // &
                            "&simulation start_sigma = 120.0, t_end = 1.0 /" // nl, 'inputs', error)
     if (.not. allocated(error)) call scene%build(error)
     if (.not. allocated(error)) call scene%initialize(.false., error)
