@@ -414,13 +414,17 @@ contains
     !> a chord step whose residual falls by less than this factor asks for a fresh Jacobian
     real(wp), parameter :: slow_contraction = 0.25_wp
     real(wp), parameter :: small_update = 1.0e-9_wp
+    !> a body not converged after this many iterations continues by pseudo-transient
+    !> continuation (below)
+    integer, parameter :: ptc_after = 12
     !> largest update per iteration (z [m], roll [rad]): keeps a bad start on the rail
     real(wp), parameter :: max_update(2) = [2.0e-4_wp, 2.0e-3_wp]
     real(wp) :: r(2, size(self%bodies)), dp(2, size(self%bodies)), &
                 merit(size(self%bodies)), merit_new(size(self%bodies)), lambda(size(self%bodies)), &
-                start(2, size(self%bodies))
+                start(2, size(self%bodies)), kappa(size(self%bodies))
     integer :: iteration, i, halvings
-    logical :: converged(size(self%bodies)), fresh, qs(size(self%bodies)), accepted(size(self%bodies))
+    logical :: converged(size(self%bodies)), fresh, qs(size(self%bodies)), accepted(size(self%bodies)), &
+               ptc(size(self%bodies))
     character(len=32) :: buf
     recoverable = .false.
     loads_ready = .false.
@@ -428,6 +432,8 @@ contains
     start = reshape([(self%bodies(i)%q0([DOF_Z, DOF_ROLL]), i = 1, size(self%bodies))], [2, size(self%bodies)])
     fresh = any(qs .and. .not. self%qs_jacobian_valid)
     dp = 0
+    ptc = .false.
+    kappa = 0
     call quasi_static_residual(self, t, y, ydot, r, error)
     if (allocated(error)) return
     merit = hypot(r(1, :), r(2, :))
@@ -441,7 +447,20 @@ contains
       converged = .not. qs
       do i = 1, size(self%bodies)
         if (.not. qs(i)) cycle
-        dp(:, i) = newton_update(self%qs_jacobian(:, :, i), r(:, i))
+        if (.not. ptc(i) .and. iteration > ptc_after) then
+          ! Pseudo-transient continuation (Kelley and Keyes, SIAM J. Numer. Anal. 35, 1998):
+          ! at a fold of the balance (the tread / flange-root transition, det J ~ 0) the
+          ! residual has a local minimum above zero and the root is on the other branch; a
+          ! line search on |r| cannot cross, the fictitious flow z' = r(z) can. Start with a
+          ! pseudo time step of a tenth of the stiffest rate.
+          ptc(i) = .true.
+          kappa(i) = 0.1_wp / max(maxval(abs(self%qs_jacobian(:, :, i))), 1.0_wp)
+        end if
+        if (ptc(i)) then
+          dp(:, i) = pseudo_transient_update(self%qs_jacobian(:, :, i), r(:, i), kappa(i))
+        else
+          dp(:, i) = newton_update(self%qs_jacobian(:, :, i), r(:, i))
+        end if
         dp(:, i) = max(-max_update, min(max_update, dp(:, i)))
         ! below the tolerance, or cycling below jump_scale after several iterations: the
         ! forces jump there by less than |J| jump_scale (the strip geometry's patch switches,
@@ -460,7 +479,7 @@ contains
       ! a small update is taken as it is: at 1e-9 (m, rad), 1e-5 of a Hertz approach, the
       ! linearisation is exact to rounding and a residual that does not fall there is the
       ! forces' noise, which halvings cannot reduce (each costs a load evaluation)
-      accepted = .not. qs .or. [(all(abs(dp(:, i)) <= small_update), i = 1, size(self%bodies))]
+      accepted = .not. qs .or. ptc .or. [(all(abs(dp(:, i)) <= small_update), i = 1, size(self%bodies))]
       call shift_quasi_static(dp)
       do halvings = 0, 10
         call quasi_static_residual(self, t, y, ydot, r, error)
@@ -486,7 +505,10 @@ contains
           if (.not. accepted(i)) dp(:, i) = -dp(:, i)
         end do
       end do
-      fresh = any(lambda < 1) .or. any(qs .and. merit_new > slow_contraction * merit)
+      fresh = any(lambda < 1) .or. any(qs .and. merit_new > slow_contraction * merit) .or. any(ptc)
+      ! pseudo time step by switched evolution relaxation: it grows as the residual falls
+      ! (towards Newton's step at the root) and shrinks where the flow climbs over the fold
+      where (ptc) kappa = kappa * min(10.0_wp, merit / max(merit_new, tiny(1.0_wp)))
       merit = merit_new
     end do
     ! not converged: back to where this evaluation started (a retry starts from there too)
@@ -528,6 +550,24 @@ contains
         if (res(1) /= 0) d(1) = sign(max_update(1), res(1))
       end if
     end function newton_update
+
+    !> Backward-Euler step of the fictitious flow z' = r(z) with pseudo time step kappa,
+    !> (I / kappa - J) d = r: a step along the accelerations for a small kappa, Newton's
+    !> step -J^-1 r for a large one. Where I / kappa - J is not positive (kappa beyond an
+    !> unstable direction of J), the explicit step kappa r.
+    pure function pseudo_transient_update(jq, res, kap) result(d)
+      real(wp), intent(in) :: jq(2, 2), res(2), kap
+      real(wp) :: d(2), a(2, 2), det
+      a = -jq
+      a(1, 1) = a(1, 1) + 1 / kap
+      a(2, 2) = a(2, 2) + 1 / kap
+      det = a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)
+      if (a(1, 1) > 0 .and. a(2, 2) > 0 .and. det > 1.0e-8_wp * abs(a(1, 1) * a(2, 2))) then
+        d = [a(2, 2) * res(1) - a(1, 2) * res(2), a(1, 1) * res(2) - a(2, 1) * res(1)] / det
+      else
+        d = kap * res
+      end if
+    end function pseudo_transient_update
   end subroutine solve_quasi_static
 
   !> z'' and roll'' (relative) of every quasi-static body at the current kinematics.
