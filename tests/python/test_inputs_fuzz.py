@@ -553,3 +553,18 @@ def test_impossible_moments_of_inertia_are_warned(raildyn_exe, tmp_path):
     res = run(raildyn_exe, "check", p)
     assert res.returncode == 0
     assert any("scene.nml:4: &body 'iyy'" in w for w in warnings_of(res)), res.stderr
+
+
+@pytest.mark.inputs_location
+def test_wheel_and_rail_apart_name_where_back_to_back_was_given(raildyn_exe, tmp_path):
+    """back_to_back inside its documented range but with wheels beside the rails: the
+    rejection named only the &wheelset's own line (in the included file); it must also name
+    the line of the file that set the value."""
+    (tmp_path / "base.nml").write_text(PROFILE_S1002)
+    p = tmp_path / "scene.nml"
+    p.write_text("&include file = 'base.nml' /\n&wheelset name = 'w1', back_to_back = 1.10 /\n")
+    chk, rn = check_and_run(raildyn_exe, p, tmp_path)
+    for res in (chk, rn):
+        assert res.returncode == 1
+        assert_one_clean_error(res, "base.nml:", "overlap laterally", "scene.nml:2: &wheelset 'back_to_back'")
+    assert not (tmp_path / "out.h5").exists()

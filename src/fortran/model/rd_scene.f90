@@ -976,7 +976,20 @@ contains
     end do
     allocate (self%contact)
     call self%contact%init(specs, self%nbodies, error, labels)
-    if (allocated(error)) return
+    if (allocated(error)) then
+      ! wheel and rail that do not overlap: the values that place them may come from other
+      ! lines (or files) than the &wheelset's own, so name where each one was given
+      if (index(error%message, 'overlap laterally') > 0) then
+        do i = 1, size(specs)
+          if (index(error%message, trim(labels(i))) /= 1) cycle
+          error%message = error%message // '; values used: ' // &
+            self%deck%origin('wheelset', i, 'back_to_back') // ', ' // &
+            self%deck%origin('wheelset', i, 'flange_back') // ', ' // self%deck%origin('track', 1, 'gauge')
+          exit
+        end do
+      end if
+      return
+    end if
     ! track irregularities displace the rails under every wheelset (rd_track_irregularity)
     call build_scene_irregularity(self%deck, irregularity, error)
     if (allocated(error)) return
