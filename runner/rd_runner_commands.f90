@@ -54,7 +54,7 @@ module rd_runner_commands
   character(len=*), parameter :: export_usage = 'usage: raildyn export RESULTS.h5 --csv DIR'
   character(len=*), parameter :: assess_usage = &
     'usage: raildyn assess RESULTS.h5 [--json] [--csv DIR] [--html DIR] [--prudhomme-alpha ALPHA] ' // &
-    '[--instability-frequency HZ]'
+    '[--instability-frequency HZ] [--shear-yield K]'
   character(len=*), parameter :: version_usage = 'usage: raildyn version'
   character(len=*), parameter :: help_usage = 'usage: raildyn help [COMMAND]'
 

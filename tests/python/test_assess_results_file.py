@@ -21,8 +21,10 @@ to 300 m and a 500 m curve beyond. The wheel columns are set independently of ea
   Delta Q/Q left 0.5 at 120.01 m, right 5/60.
 - left patch 1: Fx = -2000 N at xi = 0.001, Fy = 3000 N at eta = -0.004 (1 + 4 triangle at
   352.01 m): T gamma 14 N, 62 N at the peak; patch 2 (flange) only in the curve: Fy = -5000 N
-  at eta = 0.01, T gamma 50 N. Wheel: 112 N and RCF index f(62) + f(50) = 0.94 + 0.7 at
-  352.01 m. The right wheel's slots stay empty.
+  at eta = 0.01, T gamma 50 N. Wheel: 112 N at 352.01 m. RCF index (FI_surf = f - 2 pi a b k /
+  (3 Fz), k = 300 MPa): patch 1 Fz = 50 kN, a = 6 mm, b = 4 mm: 0.0721 - 0.3016 < 0; patch 2
+  Fz = 10 kN, a = 2 mm, b = 2 mm (1 - 0.5 triangle at 400.01 m): 0.5 - 0.2513 = 0.2487, at
+  400.01 m 0.5 - 0.2513 / 4 = 0.43717. The right wheel's slots stay empty.
 - sensor 'floor' (specific_force_body, as an accelerometer reads it): lateral 0.5 sin(2 pi t),
   vertical +g: Cc_z = 0, Cc_y = 0.5 |Wd(1 Hz)| / sqrt(2) (its
   largest value includes the filter's switch-on transient, +0.9 %); N_MV needs 5 min: not
@@ -96,9 +98,14 @@ def write_scene(make_results_file, name="scene.h5", with_sensor=True, rows=1601,
                                      "right"),
         "wheelsets/w1/left/patch1": (patch(kind=zeros + 1, creep_force_x=zeros - 2000, xi=zeros + 0.001,
                                            creep_force_y=zeros + 3000,
-                                           eta=-0.004 * (1 + 4 * tri(s, 352.01, 4))), PATCH_UNITS, " ".join(PATCH), "p1"),
+                                           eta=-0.004 * (1 + 4 * tri(s, 352.01, 4)), normal_force=zeros + 50e3,
+                                           semi_axis_a=zeros + 6e-3, semi_axis_b=zeros + 4e-3),
+                                     PATCH_UNITS, " ".join(PATCH), "p1"),
         "wheelsets/w1/left/patch2": (patch(kind=np.where(in_curve, 2.0, 0.0), creep_force_y=zeros - 5000,
-                                           eta=zeros + 0.01), PATCH_UNITS, " ".join(PATCH), "p2"),
+                                           eta=zeros + 0.01, normal_force=np.where(in_curve, 10e3, 0.0),
+                                           semi_axis_a=2e-3 * (1 - 0.5 * tri(s, 400.01, 4)),
+                                           semi_axis_b=2e-3 * (1 - 0.5 * tri(s, 400.01, 4))),
+                                     PATCH_UNITS, " ".join(PATCH), "p2"),
         "wheelsets/w1/right/patch1": (patch(), PATCH_UNITS, " ".join(PATCH), "p1"),
         "wheelsets/w1/right/patch2": (patch(), PATCH_UNITS, " ".join(PATCH), "p2"),
     }
@@ -161,7 +168,17 @@ def test_every_quantity_of_the_synthetic_scene(make_results_file):
     q = one(a, "T_gamma", side="left", patch=None)
     assert q.value == pytest.approx(112.0, rel=1e-12) and q.position == pytest.approx(352.01, abs=1e-6)
     q = one(a, "RCF_index", side="left")
-    assert q.value == pytest.approx(47 / 50 + 35 / 50, rel=1e-12) and q.position == pytest.approx(352.01, abs=1e-6)
+    k_over_p0 = 2 * np.pi * 2e-3 * 2e-3 * 300e6 / (3 * 10e3) / 4      # the patch area is a quarter at 400.01 m
+    assert q.value == pytest.approx(0.5 - k_over_p0, rel=1e-12) and q.position == pytest.approx(400.01, abs=1e-6)
+    assert q.limit is None and "k = 300 MPa" in q.clause
+    # the wheel's series is its worst patch: the tread patch (below 0) before the curve, the
+    # flange patch (0.5 - 0.2513 outside the triangle) in it
+    pos, fi = q.series["position"], q.series["value"]
+    assert pos[0] == pytest.approx(52.01, abs=1e-6)     # patch 1 loaded from the start
+    np.testing.assert_allclose(fi[pos < 300], np.hypot(2000, 3000) / 50e3
+                               - 2 * np.pi * 6e-3 * 4e-3 * 300e6 / (3 * 50e3), rtol=1e-12)
+    assert np.min(fi[pos > 301]) == pytest.approx(0.5 - 4 * k_over_p0, rel=1e-12)
+    assert not one(a, "RCF_index", side="right").available         # no patch ever loaded
     assert not a.find("T_gamma", side="right", patch=1)          # slots that never held a patch
     assert one(a, "T_gamma", side="right", patch=None).value == 0.0
 
@@ -257,3 +274,16 @@ def test_runner_assess_errors(raildyn_exe, tmp_path, make_results_file):
     res = subprocess.run([str(raildyn_exe), "assess", str(path), "--prudhomme-alpha", "2"],
                          capture_output=True, text=True)
     assert res.returncode == 1 and "expected 0 < ALPHA <= 1" in res.stderr
+    res = subprocess.run([str(raildyn_exe), "assess", str(path), "--shear-yield", "0"],
+                         capture_output=True, text=True)
+    assert res.returncode == 1 and "expected a shear yield limit k > 0 Pa" in res.stderr
+
+
+def test_runner_assess_shear_yield(make_results_file, raildyn_exe):
+    """--shear-yield sets k of FI_surf: half of it halves the k/p0 term (0.5 - 0.0628 / 2)."""
+    res = subprocess.run([str(raildyn_exe), "assess", str(write_scene(make_results_file)), "--json",
+                          "--shear-yield", "150e6"], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    q = next(q for q in json.loads(res.stdout)["quantities"] if q["name"] == "RCF_index" and q["side"] == "left")
+    assert q["value"] == pytest.approx(0.5 - 2 * np.pi * 2e-3 * 2e-3 * 150e6 / (3 * 10e3) / 4, rel=1e-12)
+    assert "k = 150 MPa" in q["clause"]

@@ -27,6 +27,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--instability-frequency", type=float, default=None, metavar="HZ",
                         help="f0 of the instability band f0 +- 2 Hz (default: the dominant "
                              "frequency of sum Y between 0.5 and 15 Hz)")
+    parser.add_argument("--shear-yield", type=float, default=300e6, metavar="K",
+                        help="yield limit in pure shear k [Pa] of the RCF index FI_surf "
+                             "(default 3e8)")
     args = parser.parse_args(argv)
     if not Path(args.results).is_file():
         print(f"raildyn assess: error: {args.results}: no such file", file=sys.stderr)
@@ -39,8 +42,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"raildyn assess: error: --instability-frequency {args.instability_frequency}: "
               "expected a frequency > 0 Hz", file=sys.stderr)
         return 1
+    if not args.shear_yield > 0:
+        print(f"raildyn assess: error: --shear-yield {args.shear_yield}: expected a shear yield "
+              "limit k > 0 Pa", file=sys.stderr)
+        return 1
     try:
-        a = assess(args.results, args.prudhomme_alpha, args.instability_frequency)
+        a = assess(args.results, args.prudhomme_alpha, args.instability_frequency, args.shear_yield)
         if args.csv:
             write_csv(a, args.csv)
         if args.html:

@@ -16,7 +16,7 @@ from .layout import SIDES, LayoutError, read_sensors, read_wheelsets, wheelset_n
 from .quantity import Quantity, not_available
 from .running_safety import running_safety
 from .track_loading import track_loading
-from .wear import wear_quantities
+from .wear import SHEAR_YIELD_DEFAULT, wear_quantities
 
 __all__ = ["Assessment", "assess", "FORCE_CUTOFF"]
 
@@ -70,8 +70,10 @@ def _wheelset_not_available(wheelset: str | None, reason: str) -> list[Quantity]
 
 
 def assess(path: str | os.PathLike, prudhomme_alpha: float = 1.0,
-           instability_frequency: float | None = None) -> Assessment:
-    """Assess the results file ``path`` (docs/assessment.md)."""
+           instability_frequency: float | None = None,
+           shear_yield: float = SHEAR_YIELD_DEFAULT) -> Assessment:
+    """Assess the results file ``path`` (docs/assessment.md); ``shear_yield`` [Pa] is the
+    yield limit in pure shear k of the RCF index FI_surf."""
     with Results(path) as r:
         if r.axis != "time":
             raise ValueError(f"its rows are along '{r.axis}', not in time (a raildyn track export?): "
@@ -99,7 +101,7 @@ def assess(path: str | os.PathLike, prudhomme_alpha: float = 1.0,
             a.notes.append(f"wheelset {ws.name}: track position = {ws.position_note}")
             a.quantities += running_safety(ws, t, lowpass, prudhomme_alpha, instability_frequency)
             a.quantities += track_loading(ws, speed, lowpass)
-            a.quantities += wear_quantities(ws)
+            a.quantities += wear_quantities(ws, shear_yield)
         sensors = read_sensors(r)
         if not sensors:
             reason = "the file has no sensors/<name>/ series (no &sensor in the deck, or &output groups without 'sensors')"
