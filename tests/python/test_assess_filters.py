@@ -5,9 +5,27 @@ Published values: ISO 2631-1:1997 table 3 (the frequency weightings in one-third
 factors x 1000), columns Wd and Wc, as the tables of ISO 2631-1 give them at the nominal band
 frequencies (values quoted from the standard's table as reproduced in the literature; EN 12299
 uses the same Wc and Wd). The table is rounded to three significant digits: the check allows
-half a unit of the third digit. Wb has no table at hand (ISO 2631-4 / BS 6841): it is checked
-against the BS 6841 way of writing it (gain 0.4 and an upward step normalised to 1 at low
-frequency, polynomials in s) and its plateaus.
+half a unit of the third digit.
+
+Wb (and Wc, Wd once more), two published sources, both SECONDARY (the standards' own text was
+not at hand):
+
+- the parameter table of ISO 8041 (f1, Q1, f2, Q2, f3, f4, Q4, f5, Q5, f6, Q6, K per weighting;
+  its note: ISO 2631-4:2001 table A.1 rounds Wb's Q1 to 0.71, the exact value is 1/sqrt(2)),
+  as reproduced in Larson Davis, "HVM200 Reference Manual", table 3.1 "Parameters and transfer
+  functions of the frequency weightings (source: ISO 8041)". The test evaluates the
+  weightings from that table with its own code (``_iso8041_form``: each factor written with
+  its own Q, none shared with raildyn.assess.filters) at the one-third-octave band centres
+  10^(n/10) Hz, gain and phase;
+- the value of each weighting at the reference frequency 100 rad/s (15.915 Hz): Wb 0.8126,
+  Wc 0.5145, Wd 0.1261, as listed (to 4 digits) by ZETLAB, "Frequency weighting functions"
+  (the documentation page of its signal filtration program, which quotes the weightings of
+  ISO 2631-1 and ISO 2631-4). This pins Wb's gain K and the normalisation of its upward step,
+  which the parameter table alone leaves to the form of the step.
+
+No published table of Wb at the one-third-octave frequencies (ISO 2631-4 table, BS 6841
+table) nor any published phase was at hand: the phase is checked against the transfer
+function evaluated independently from the ISO 8041 table and against BS 6841's polynomial form.
 """
 import numpy as np
 import pytest
@@ -31,6 +49,55 @@ def test_gain_equals_the_published_table(name):
     for f, table, g in zip(NOMINAL, ISO_2631_1_TABLE_3[name], gain):
         half_unit = 0.5 * 10 ** (np.floor(np.log10(table)) - 2)
         assert abs(g - table) <= half_unit + 1e-9, (name, f, table, g)
+
+
+#: ISO 8041 parameter table (secondary: Larson Davis HVM200 Reference Manual, table 3.1):
+#: f1 Q1 f2 Q2 f3 f4 Q4 f5 Q5 f6 Q6 K; None = infinity (the factor is 1)
+ISO_8041_TABLE = {
+    "Wb": (0.4, 2 ** -0.5, 100.0, 2 ** -0.5, 16.0, 16.0, 0.55, 2.5, 0.9, 4.0, 0.95, 1.024),
+    "Wc": (0.4, 2 ** -0.5, 100.0, 2 ** -0.5, 8.0, 8.0, 0.63, None, 1.0, None, 1.0, 1.0),
+    "Wd": (0.4, 2 ** -0.5, 100.0, 2 ** -0.5, 2.0, 2.0, 0.63, None, 1.0, None, 1.0, 1.0),
+}
+#: |W| at the reference frequency 100 rad/s (secondary: ZETLAB "Frequency weighting functions")
+REFERENCE_VALUE_100_RAD_S = {"Wb": 0.8126, "Wc": 0.5145, "Wd": 0.1261}
+
+
+def _iso8041_form(f, f1, q1, f2, q2, f3, f4, q4, f5, q5, f6, q6, k):
+    """H(s) = K Hh Hl Ht Hs with each factor as a ratio of polynomials in s = j 2 pi f
+    (w_i = 2 pi f_i): Hh = s^2 / (s^2 + w1 s / Q1 + w1^2), Hl = w2^2 / (s^2 + w2 s / Q2 + w2^2),
+    Ht = (s + w3) w4^2 / ((s^2 + w4 s / Q4 + w4^2) w3),
+    Hs = (s^2 + w5 s / Q5 + w5^2) / (s^2 + w6 s / Q6 + w6^2) (1 where f5 = f6 = infinity):
+    the step is 1 at high frequency and (f5/f6)^2 at low frequency, so Wb's K = 1.024 is its
+    high plateau and K (2.5/4)^2 = 0.4 its low one (the reference value below confirms it)."""
+    s = 2j * np.pi * np.asarray(f, float)
+    w1, w2, w3, w4 = (2 * np.pi * x for x in (f1, f2, f3, f4))
+    h = k * s**2 / (s**2 + w1 * s / q1 + w1**2) * w2**2 / (s**2 + w2 * s / q2 + w2**2)
+    h = h * (s + w3) * w4**2 / ((s**2 + w4 * s / q4 + w4**2) * w3)
+    if f5 is not None:
+        w5, w6 = 2 * np.pi * f5, 2 * np.pi * f6
+        h = h * (s**2 + w5 * s / q5 + w5**2) / (s**2 + w6 * s / q6 + w6**2)
+    return h
+
+
+#: one-third-octave band centres 0.1 - 100 Hz, exact (10^(n/10))
+EXACT = 10.0 ** (np.arange(-10, 21) / 10.0)
+
+
+@pytest.mark.parametrize("name", ["Wb", "Wc", "Wd"])
+def test_gain_and_phase_equal_the_iso_8041_table(name):
+    """Gain and phase of raildyn's weighting at the 31 band centres equal the transfer
+    function evaluated from ISO 8041's parameter table (secondary source, module text)."""
+    h = weighting_response(name, EXACT)
+    ref = _iso8041_form(EXACT, *ISO_8041_TABLE[name])
+    np.testing.assert_allclose(np.abs(h), np.abs(ref), rtol=1e-12)
+    np.testing.assert_allclose(np.angle(h), np.angle(ref), atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["Wb", "Wc", "Wd"])
+def test_gain_at_the_reference_frequency(name):
+    """|W(100 rad/s)| equals the published value to its 4 printed digits."""
+    g = abs(weighting_response(name, [100.0 / (2 * np.pi)])[0])
+    assert abs(g - REFERENCE_VALUE_100_RAD_S[name]) <= 0.5e-4 + 1e-12, (name, g)
 
 
 def _polynomial_form(f, f1, f2, f3, f4, q4, k, step=None):

@@ -12,7 +12,12 @@ for Wb, from ISO 2631-4:2001 / BS 6841:1987): each weighting is the product of
 times a gain K, with ``p = j 2 pi f`` and ``w_i = 2 pi f_i``. SECONDARY SOURCE: the parameter
 values below are those of ISO 2631-1:1997 table A.2 (Wc, Wd) and of BS 6841:1987 / ISO
 2631-4:2001 (Wb) as the ride-comfort literature quotes them; the text of EN 12299 was not at
-hand (docs/assessment.md "Sources").
+hand (docs/assessment.md "Sources"). Checked (tests/python/test_assess_filters.py) against
+three published tables, none read in the standard itself: ISO 2631-1:1997 table 3 (Wc, Wd at
+the one-third-octave frequencies, as reproduced in the literature); ISO 8041's parameter
+table (all three, as reproduced in Larson Davis, HVM200 Reference Manual, table 3.1); the
+value at the reference frequency 100 rad/s (Wb 0.8126, Wc 0.5145, Wd 0.1261, as listed by
+ZETLAB, "Frequency weighting functions").
 
 The filters are applied by multiplying the signal's discrete Fourier transform with the
 transfer function at the exact bin frequencies (no bilinear warping): gain and phase are
@@ -54,11 +59,11 @@ class Weighting:
 #: The comfort weightings of EN 12299 (SECONDARY SOURCE, see the module text).
 WEIGHTINGS: dict[str, Weighting] = {
     "Wb": Weighting("Wb", 0.4, 100.0, 16.0, 16.0, 0.55, 2.5, 0.9, 4.0, 0.95, 1.024,
-                    "vertical, floor (EN 12299 / ISO 2631-4:2001 / BS 6841:1987; secondary)"),
+                    "vertical, floor (EN 12299 / ISO 2631-4:2001 / BS 6841:1987; ISO 8041 table; secondary)"),
     "Wc": Weighting("Wc", 0.4, 100.0, 8.0, 8.0, 0.63, k=1.0,
-                    source="longitudinal, seat back (ISO 2631-1:1997 table A.2; secondary)"),
+                    source="longitudinal, seat back (ISO 2631-1:1997 table A.2, ISO 8041 table; secondary)"),
     "Wd": Weighting("Wd", 0.4, 100.0, 2.0, 2.0, 0.63, k=1.0,
-                    source="horizontal, floor and seat (ISO 2631-1:1997 table A.2; secondary)"),
+                    source="horizontal, floor and seat (ISO 2631-1:1997 table A.2, ISO 8041 table; secondary)"),
 }
 
 
