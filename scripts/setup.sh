@@ -7,8 +7,9 @@ set -euo pipefail
 # Build and run: compilers, LAPACK, SUNDIALS, HDF5, Python with numpy/h5py/matplotlib.
 packages=(gfortran gcc cmake ninja-build pkg-config liblapack-dev libsundials-dev libhdf5-dev
           python3 python3-numpy python3-h5py python3-matplotlib)
-# `setup.sh --tests` also: pytest and a real single-node Slurm (campaigns as job arrays).
-test_packages=(python3-pytest slurmctld slurmd slurm-client munge)
+# `setup.sh --tests` also: pytest, a real single-node Slurm (campaigns as job arrays) and
+# headless Chromium (tests/python/test_html_render.py renders the HTML reports).
+test_packages=(python3-pytest slurmctld slurmd slurm-client munge chromium)
 if [ "${1:-}" = "--tests" ]; then
   packages+=("${test_packages[@]}")
 fi
@@ -30,7 +31,7 @@ if command -v dpkg-query >/dev/null 2>&1; then
 else
   echo "raildyn setup: this is not a Debian/Ubuntu system. Install: gfortran >= 12, CMake >= 3.24," >&2
   echo "  Ninja, LAPACK, SUNDIALS >= 6.4 (CVODE, ARKODE), HDF5 with Fortran (serial)," >&2
-  echo "  Python 3 with numpy, h5py, pytest, matplotlib; then rerun." >&2
+  echo "  Python 3 with numpy, h5py, pytest, matplotlib; for the tests headless Chromium; then rerun." >&2
   for tool in gfortran cmake ninja; do
     command -v "$tool" >/dev/null 2>&1 || { echo "raildyn setup: $tool not found" >&2; exit 1; }
   done

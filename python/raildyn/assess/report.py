@@ -86,9 +86,13 @@ def quantity_plots(a: Assessment) -> list[tuple[str, bytes]]:
             continue
         axis = "position" if "position" in q.series else "time"
         x, y = np.asarray(q.series[axis]), np.asarray(q.series["value"])
+        # every limit bounds a magnitude; a series that never goes below 0 (Q, an rms) gets
+        # the band's upper half only, so that its scale is not doubled by nothing
+        lower = 0.0 if np.all(y >= 0) else -1.0
         bands = [] if q.limit is None else [(f"allowed (|value| <= {q.limit:.4g})", x,
-                                             np.full_like(x, -q.limit), np.full_like(x, q.limit))]
-        plots.append((q.label(), figure_png(f"{q.label()} [{q.unit}]", [(q.label(), x, y)], q.unit,
+                                             np.full_like(x, lower * q.limit), np.full_like(x, q.limit))]
+        plots.append((q.label(), figure_png(f"{q.label()} [{q.unit}]", [(q.label(), x, y)],
+                                            f"{q.name} [{q.unit}]",
                                             bands=bands, xlabel="track position [m]" if axis == "position"
                                             else "time [s]")))
     return plots
