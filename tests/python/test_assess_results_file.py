@@ -210,6 +210,9 @@ def test_missing_inputs_are_reported_not_raised(make_results_file):
     assert one(a, "Y/Q", side="left").available
     text = json.dumps(a.to_json(), allow_nan=False)      # raises on NaN
     assert "NaN" not in text
+    # every row names its source, those not available too (docs/assessment.md "Sources")
+    assert all(q.source.startswith("secondary: ") for q in a.quantities)
+    assert "EN 12299" in one(a, "N_MV").source and "EN 14363" in rms.source
 
 
 def test_file_without_positions(make_results_file):

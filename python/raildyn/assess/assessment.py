@@ -16,7 +16,10 @@ from .layout import SIDES, LayoutError, read_sensors, read_wheelsets, wheelset_n
 from .quantity import Quantity, not_available
 from .running_safety import running_safety
 from .track_loading import track_loading
-from .wear import SHEAR_YIELD_DEFAULT, wear_quantities
+from .comfort import _SOURCE as _COMFORT_SOURCE
+from .running_safety import _SOURCE as _SAFETY_SOURCE
+from .track_loading import _SOURCE as _LOADING_SOURCE
+from .wear import _SOURCE_RCF, _SOURCE_TG, SHEAR_YIELD_DEFAULT, wear_quantities
 
 __all__ = ["Assessment", "assess", "FORCE_CUTOFF"]
 
@@ -52,6 +55,14 @@ def _lowpass_for(t: np.ndarray, notes: list[str]):
     notes.append(f"wheel forces low-pass filtered at {FORCE_CUTOFF:g} Hz (4th-order Butterworth "
                  "magnitude, zero phase)")
     return lambda y: magnitude_filter(y, fs, lambda f: butterworth_lowpass_gain(f, FORCE_CUTOFF))
+
+
+#: where each quantity comes from (docs/assessment.md): given to a quantity that is not
+#: available too, so that every row of the JSON, CSV and HTML says it
+SOURCES = {"Y/Q": _SAFETY_SOURCE, "sum_Y": _SAFETY_SOURCE, "sum_Y_rms": _SAFETY_SOURCE,
+           "Q_max": _LOADING_SOURCE, "Y_qst": _LOADING_SOURCE, "Q_qst": _LOADING_SOURCE,
+           "DeltaQ/Q": _LOADING_SOURCE, "T_gamma": _SOURCE_TG, "RCF_index": _SOURCE_RCF,
+           "N_MV": _COMFORT_SOURCE, "Cc": _COMFORT_SOURCE}
 
 
 #: the wheelset quantities: (name, unit, per wheel)
@@ -119,4 +130,6 @@ def assess(path: str | os.PathLike, prudhomme_alpha: float = 1.0,
             def position_at(time, offset=offset):
                 return float("nan") if distance is None else float(np.interp(time, t, distance)) + offset
             a.quantities += comfort_quantities(sensor.name, t, sensor.acceleration, position_at)
+    for q in a.quantities:
+        q.source = q.source or SOURCES[q.name]
     return a
