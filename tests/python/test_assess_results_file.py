@@ -115,6 +115,9 @@ def write_scene(make_results_file, name="scene.h5", with_sensor=True, rows=1601,
         # an accelerometer's reading: +g vertically (docs/output.md /sensors specific_force_body)
         series["sensors/floor/specific_force_body"] = (
             np.column_stack([zeros, 0.5 * np.sin(2 * np.pi * t), zeros + 9.80665]), "m/s^2", "fx fy fz", "floor")
+        # the point 1.5 m ahead of its body's frame origin (x of position_track)
+        series["sensors/floor/position_track"] = (np.column_stack([zeros + 1.5, zeros, zeros + 1.0]), "m",
+                                                  "x y z", "floor")
     return make_results_file(name, t, series, meta_attrs={"status": "completed"},
                              root_attrs={"title": "synthetic assessment scene"}, deck_text=DECK)
 
@@ -191,9 +194,11 @@ def test_every_quantity_of_the_synthetic_scene(make_results_file):
     assert one(a, "Cc", sensor="floor", direction="x").value == pytest.approx(0.0, abs=1e-12)
     # the constant +g starts no transient: the weightings remove a constant
     assert one(a, "Cc", sensor="floor", direction="z").value == pytest.approx(0.0, abs=1e-12)
-    assert any("sensors/floor/specific_force_body" in n and "vehicle/distance + 2 m" in n for n in a.notes)
-    # its track position: vehicle/distance + the frame offset of its body (shared with ws1)
-    assert q.position == pytest.approx(50.0 + 10.0 * q.series["time"][np.argmax(q.series["value"])] + 2.0)
+    assert any("sensors/floor/specific_force_body" in n and "vehicle/distance + 2 m + x of position_track" in n
+               for n in a.notes)
+    # its track position: vehicle/distance + the frame offset of its body (shared with ws1) + its
+    # x in that frame (docs/output.md /sensors)
+    assert q.position == pytest.approx(50.0 + 10.0 * q.series["time"][np.argmax(q.series["value"])] + 2.0 + 1.5)
 
 
 def test_missing_inputs_are_reported_not_raised(make_results_file):

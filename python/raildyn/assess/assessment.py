@@ -121,14 +121,17 @@ def assess(path: str | os.PathLike, prudhomme_alpha: float = 1.0,
         distance = np.asarray(r.get("vehicle/distance:sigma"), float) if "vehicle/distance" in r else None
         for sensor in sensors:
             # docs/output.md /sensors: the track position of a sensor's row is vehicle/distance
-            # plus the frame offset of its body
+            # plus the frame offset of its body plus the sensor's x in position_track
             offset = sensor.frame_offset or 0.0
             a.notes.append(f"sensor {sensor.name}: accelerations from {sensor.series}; track position "
                            f"= vehicle/distance + {offset:g} m" + ("" if sensor.frame_offset is not None
-                                                                  else " (its body's frame not found in the deck)"))
+                                                                  else " (its body's frame not found in the deck)")
+                           + (" + x of position_track" if sensor.x is not None
+                              else " (position_track not written: the sensor's x left out)"))
+            along = None if distance is None else distance + offset + (0.0 if sensor.x is None else sensor.x)
 
-            def position_at(time, offset=offset):
-                return float("nan") if distance is None else float(np.interp(time, t, distance)) + offset
+            def position_at(time, along=along):
+                return float("nan") if along is None else float(np.interp(time, t, along))
             a.quantities += comfort_quantities(sensor.name, t, sensor.acceleration, position_at)
     for q in a.quantities:
         q.source = q.source or SOURCES[q.name]

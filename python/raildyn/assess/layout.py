@@ -106,6 +106,7 @@ class SensorData:
     series: str                           #: the results series the accelerations come from
     acceleration: np.ndarray              #: (n, 3) x y z [m/s^2]
     frame_offset: float | None = None     #: of its body's track frame, None if not in the deck
+    x: np.ndarray | None = None           #: (n,) its x in its track frame (position_track), m
 
 
 def _columns(r: Results, series: str) -> dict[str, np.ndarray]:
@@ -197,9 +198,12 @@ def read_sensors(r: Results) -> list[SensorData]:
                 offset = _frame_offset(bodies, specs[name]["body"])
             except (LayoutError, ValueError):
                 offset = None
+        x = None
+        if f"sensors/{name}/position_track" in r:
+            x = np.asarray(r.get(f"sensors/{name}/position_track"), float)[:, 0]
         for kind in _SENSOR_SERIES:
             series = f"sensors/{name}/{kind}"
             if series in r and r.get(series).shape[1] == 3:
-                out.append(SensorData(name, series, np.asarray(r.get(series), float), offset))
+                out.append(SensorData(name, series, np.asarray(r.get(series), float), offset, x))
                 break
     return out
