@@ -51,7 +51,8 @@ Quantity metrics name a quantity of ``raildyn assess`` (``raildyn.assess``, docs
 by its JSON ``"name"`` (``"Y/Q"``, ``"sum_Y"``, ``"Q_max"``, ``"N_MV"``, ``"T_gamma"``, ...),
 narrowed by ``wheelset``, ``side``, ``sensor``, ``direction``, ``patch``; where several
 quantities match, the metric is the worst of them: the smallest margin to its limit, or for
-quantities without a limit the largest magnitude. ``take`` chooses what the summary gets of
+quantities without a limit the largest magnitude (``RCF_index``, the surface fatigue index
+FI_surf: the largest value, a negative one being below the shakedown limit). ``take`` chooses what the summary gets of
 it: its ``value``, its ``margin`` ((limit - |value|) / limit), its ``limit`` or the track
 ``position`` of the value. With a window the assessment runs on a copy of the results cut to
 the window's rows (``raildyn.results_window``), so windowed sliding means and percentiles
@@ -101,6 +102,9 @@ from .results_window import write_rows
 
 KEY_RE = re.compile(r"^(?P<group>[a-z_]+)(\[(?P<name>[^\]]+)\])?\.(?P<param>[a-z_0-9]+)$")
 REDUCTIONS = ("max", "min", "mean", "max_abs", "rms", "final", "growth_rate")
+#: quantities without a limit whose largest signed value is the worst (FI_surf < 0: below the
+#: shakedown limit, the further the safer)
+SIGNED_WORST = frozenset({"RCF_index"})
 #: what a quantity metric takes of the quantity (raildyn assess JSON fields)
 TAKES = ("value", "margin", "limit", "position")
 #: fields of a raildyn assess quantity a metric may select by
@@ -563,6 +567,8 @@ def quantity_metric(campaign: Campaign, m: Metric, quantities: list[dict[str, An
     limited = [q for q in matches if q.get("margin") is not None]
     if limited:
         worst = min(limited, key=lambda q: q["margin"])
+    elif m.quantity in SIGNED_WORST:
+        worst = max(matches, key=lambda q: q["value"])
     else:
         worst = max(matches, key=lambda q: abs(q["value"]))
     value = worst.get(m.take)

@@ -117,6 +117,10 @@ QUANTITIES = [
      "unit": "N", "position": 80.0, "margin": None},
     {"name": "T_gamma", "wheelset": "w1", "side": "left", "patch": 2, "value": 40.0, "limit": None,
      "unit": "N", "position": 90.0, "margin": None},
+    {"name": "RCF_index", "wheelset": "w1", "side": "left", "value": -0.3, "limit": None, "unit": "1",
+     "position": 70.0, "margin": None},
+    {"name": "RCF_index", "wheelset": "w1", "side": "right", "value": 0.1, "limit": None, "unit": "1",
+     "position": 75.0, "margin": None},
     {"name": "N_MV", "wheelset": None, "side": None, "value": None, "limit": None, "unit": "1",
      "position": None, "margin": None, "reason": "the file has no sensors"},
 ]
@@ -139,7 +143,9 @@ def test_quantity_metric_takes_the_worst_match(tmp_path):
     # no limit: the largest magnitude, signed as reported
     assert pick(quantity="T_gamma") == -75.0
     assert pick(quantity="T_gamma", patch=2, take="position") == 90.0
-    for entry, words in ((dict(quantity="Q_max"), "has no quantity 'Q_max' for"), (dict(quantity="Q_max"), "; it has N_MV, T_gamma, Y/Q"),
+    # the RCF index FI_surf: the largest value, not magnitude (-0.3 is further below shakedown)
+    assert pick(quantity="RCF_index") == 0.1
+    for entry, words in ((dict(quantity="Q_max"), "has no quantity 'Q_max' for"), (dict(quantity="Q_max"), "; it has N_MV, RCF_index, T_gamma, Y/Q"),
                          (dict(quantity="Y/Q", wheelset="w3"), "there are Y/Q w1 left, Y/Q w1 right"),
                          (dict(quantity="N_MV"), "not available for") ,
                          (dict(quantity="N_MV"), "the file has no sensors"),
