@@ -216,6 +216,7 @@ MUTATIONS = {
     ("wheelset", "contact_geometry"): ([], [("&wheelset", "contact_geometry", "'table'")], False),
     ("wheelset", "table_shift_step"): ([("&wheelset", "contact_geometry", "'table'")],
                                        [("&wheelset", "table_shift_step", "2.0e-4")], False),
+    ("wheelset", "strip_spacing"): ([], [("&wheelset", "strip_spacing", "1.0e-4")], False),
     ("wheelset", "polach_ka"): ([("&wheelset", "creep_law", "'polach'")], [("&wheelset", "polach_ka", "0.5")], False),
     ("wheelset", "polach_ks"): ([("&wheelset", "creep_law", "'polach'")], [("&wheelset", "polach_ks", "0.5")], False),
     ("wheelset", "creep_velocity_min"): ([], [("&wheelset", "creep_velocity_min", "5.0")], False),

@@ -581,6 +581,8 @@ contains
         call deck%get('wheelset', i, 'contact_geometry', text, error); if (allocated(error)) return
         w%contact_geometry = text
         call deck%get('wheelset', i, 'table_shift_step', w%table%shift_step, error); if (allocated(error)) return
+        call deck%get('wheelset', i, 'strip_spacing', w%surface%wheel_spacing, error); if (allocated(error)) return
+        w%surface%rail_spacing = w%surface%wheel_spacing
         call deck%get('wheelset', i, 'nominal_radius', w%nominal_radius, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'back_to_back', w%back_to_back, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'flange_back', w%flange_back, error); if (allocated(error)) return

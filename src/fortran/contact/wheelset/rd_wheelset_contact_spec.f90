@@ -25,7 +25,9 @@ module rd_wheelset_contact_spec
   public :: SIDE_LEFT, SIDE_RIGHT, CONTACT_MODEL_NAMES
 
   character(len=*), parameter :: CONTACT_MODEL_NAMES = '''profile'' or ''knife_edge'''
-  !> Point spacing of the analytic profiles [m] (the surfaces are resampled anyway).
+  !> Point spacing of the analytic profiles [m] (the surfaces are resampled anyway); a finer
+  !> strip spacing (&wheelset strip_spacing) samples them at its own spacing, so finer strips
+  !> see the analytic curve and not chords of a 0.2 mm polyline.
   real(wp), parameter :: analytic_spacing = 2.0e-4_wp
 
   !> One wheelset's contact, as read from the deck. Defaults: Manchester benchmark wheelset
@@ -143,7 +145,7 @@ contains
     else if (.not. allocated(spec%wheel_profile)) then
       call make_error(error, RD_ERR_INPUT, 'no wheel profile given; expected a file path or ''s1002''')
     else
-      call load_wheel_profile(spec%wheel_profile, wheel, error, analytic_spacing)
+      call load_wheel_profile(spec%wheel_profile, wheel, error, min(analytic_spacing, spec%surface%wheel_spacing))
     end if
     if (allocated(error)) then
       call error_context(error, 'load_contact_profiles')
@@ -157,7 +159,7 @@ contains
     else if (.not. allocated(spec%rail_profile)) then
       call make_error(error, RD_ERR_INPUT, 'no rail profile given; expected a file path, ''60e1'' or ''54e1''')
     else
-      call load_rail_profile(spec%rail_profile, rail, error, analytic_spacing)
+      call load_rail_profile(spec%rail_profile, rail, error, min(analytic_spacing, spec%surface%rail_spacing))
     end if
     if (allocated(error)) call error_context(error, 'load_contact_profiles')
   end subroutine load_contact_profiles
@@ -196,11 +198,13 @@ contains
       if (spec%rail_precant_right >= 0) precant_right = spec%rail_precant_right
       ! right profiles only when named; init_strip_contact shares surfaces equal to the left ones
       if (allocated(spec%wheel_profile_right)) then
-        call load_wheel_profile(spec%wheel_profile_right, wheel_right, error, analytic_spacing)
+        call load_wheel_profile(spec%wheel_profile_right, wheel_right, error, &
+                                min(analytic_spacing, spec%surface%wheel_spacing))
         if (allocated(error)) call error_context(error, 'right wheel profile')
       end if
       if (allocated(spec%rail_profile_right) .and. .not. allocated(error)) then
-        call load_rail_profile(spec%rail_profile_right, rail_right, error, analytic_spacing)
+        call load_rail_profile(spec%rail_profile_right, rail_right, error, &
+                               min(analytic_spacing, spec%surface%rail_spacing))
         if (allocated(error)) call error_context(error, 'right rail profile')
       end if
       if (allocated(error)) then

@@ -412,6 +412,11 @@ contains
       only_with(preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift (the build ' // &
               'time grows as 1/step: about 1-4 s at 1e-4)', default=1.0e-4_wp, &
               min=2.0e-5_wp, max=1.0e-3_wp), 'contact_geometry', 'table'), &
+      only_with(preal('strip_spacing', 'm', 'arc-length spacing of the resampled wheel points and rail ' // &
+              'lines (strips) of the profile contact, also of the strips a contact table tabulates ' // &
+              '(docs/theory_contact_geometry.md section 2; the strip search costs about 1/spacing; analytic ' // &
+              'profiles are sampled at min(0.2 mm, spacing))', default=2.0e-4_wp, &
+              min=5.0e-5_wp, max=1.0e-3_wp), 'contact', 'profile'), &
       only_with(path_param(pstr('wheel_profile', 'wheel profile file or analytic keyword', &
                         cond='required for profile contact'), .true., 's1002|60e1|54e1'), 'contact', 'profile'), &
       only_with(path_param(pstr('rail_profile', 'rail profile file or analytic keyword', &
