@@ -548,6 +548,18 @@ CHANNEL_ALIASES = [(re.compile(p), r) for p, r in (
 )]
 
 
+def resolve_channel(r: Results, channel: str) -> str | None:
+    """The name under which results ``r`` hold a channel given by its docs/output.md name:
+    itself, or its name in the per-wheel/per-patch layout (CHANNEL_ALIASES); None."""
+    if channel in r:
+        return channel
+    for pattern, repl in CHANNEL_ALIASES:
+        alt, n = pattern.subn(repl, channel)
+        if n and alt in r:
+            return alt
+    return None
+
+
 class Context:
     """What an evaluation function works with: the case's results and helpers."""
 
@@ -564,13 +576,7 @@ class Context:
         r = results or self.r
         if r is None:
             raise CaseError(f"case {self.case.name} has no results of its own")
-        if channel in r:
-            return channel
-        for pattern, repl in CHANNEL_ALIASES:
-            alt, n = pattern.subn(repl, channel)
-            if n and alt in r:
-                return alt
-        return None
+        return resolve_channel(r, channel)
 
     def has(self, channel: str, results: Results | None = None) -> bool:
         return self.resolve(channel, results) is not None
@@ -659,8 +665,11 @@ _MB_CHANNEL = {
 
 
 def manchester_window(ctx: Context) -> tuple[float, float]:
-    t = ctx.time()
-    sigma = ctx.get("vehicle/distance:sigma")
+    return manchester_window_times(ctx.time(), ctx.get("vehicle/distance:sigma"))
+
+
+def manchester_window_times(t: np.ndarray, sigma: np.ndarray) -> tuple[float, float]:
+    """First and last output time [s] with the vehicle reference inside MANCHESTER_SIGMA_WINDOW."""
     m = (sigma >= MANCHESTER_SIGMA_WINDOW[0]) & (sigma <= MANCHESTER_SIGMA_WINDOW[1])
     if m.sum() < 2:
         raise CaseError(f"the run does not reach the quasi-static window (reference sigma "
@@ -670,12 +679,19 @@ def manchester_window(ctx: Context) -> tuple[float, float]:
     return float(t[m][0]), float(t[m][-1])
 
 
+def manchester_window_values(t: np.ndarray, get: Callable[[str], np.ndarray], entries: Sequence[PackageEntry],
+                             w0: float, w1: float) -> dict[str, float]:
+    """Entry key -> signed window mean [SI] of the entry's channel (``get``: docs/output.md
+    channel name -> series) over [w0, w1] s: the values the Manchester rule judges."""
+    return {e.key: window_mean(t, get(_MB_CHANNEL[e.quantity][0].format(k=e.wheelset, side=e.side)), w0, w1)
+            for e in entries}
+
+
 def evaluate_manchester(ctx: Context) -> None:
     entries = load_package_table()
     t = ctx.time()
     w0, w1 = manchester_window(ctx)
-    ours = {e.key: window_mean(t, ctx.get(_MB_CHANNEL[e.quantity][0].format(k=e.wheelset, side=e.side)), w0, w1)
-            for e in entries}
+    ours = manchester_window_values(t, ctx.get, entries, w0, w1)
     out = manchester_acceptance(ours, entries)
     rows, sign_rel = [], {}
     for e, v in zip(entries, out.verdicts):
@@ -1505,6 +1521,12 @@ CASES: dict[str, Case] = {c.name: c for c in [
          "Quasi-static curving in R 150 m with 100 mm cant at 4.4 m/s: wheelset lateral shift and yaw, "
          "wheel forces against the five packages of thesis tables 5.9-5.11, and quiet (no contact "
          "loss, wheel loads steady within 1 kN in the window; issue 12).", evaluate_manchester_quiet,
+         baseline_channels=("bodies/ws1/position_track:y", "bodies/ws1/position_track:yaw",
+                            "wheelsets/w1/left/force_track:fy", "wheelsets/w1/left/force_track:fz")),
+    Case("manchester_v1_tc1_tables", "manchester_v1_tc1_tables.nml",
+         "Manchester Benchmark Vehicle 1, Track Case 1, contact tables",
+         "The acceptance scene with its profile contact evaluated from pre-computed tables of the strip "
+         "model (docs/theory_contact_geometry.md section 10): the same rule.", evaluate_manchester,
          baseline_channels=("bodies/ws1/position_track:y", "bodies/ws1/position_track:yaw",
                             "wheelsets/w1/left/force_track:fy", "wheelsets/w1/left/force_track:fz")),
     Case("tgv_wheelset", "tgv_wheelset.nml", "TGV 001 single wheelset, straight, 20 m/s",
