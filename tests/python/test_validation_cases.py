@@ -18,7 +18,11 @@ from raildyn import validation as V
 def validation_out(tmp_path_factory, build_dir):
     os.environ.setdefault("RAILDYN_BUILD_DIR", str(build_dir))
     out = os.environ.get("RAILDYN_VALIDATION_OUT")
-    return Path(out) if out else tmp_path_factory.mktemp("validation")
+    out = Path(out) if out else tmp_path_factory.mktemp("validation")
+    # contact tables of the cases (manchester_v1_tc1_tables) next to their results, not in the
+    # user's cache
+    os.environ.setdefault("RAILDYN_CACHE_DIR", str(out / "table_cache"))
+    return out
 
 
 @pytest.fixture(scope="session")
