@@ -17,7 +17,6 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "python"))
-import raildyn  # noqa: E402
 from raildyn import stability as st  # noqa: E402
 from raildyn.results import Results  # noqa: E402
 
@@ -29,17 +28,7 @@ THRESHOLDS = [0.5, 0.25, 0.1]
 
 def from_cycle(speed, after=20.0):
     """Peaks of the lateral shift at 5, 10 and 20 s at ``speed`` after 3 s of hunting at 100 m/s."""
-    with raildyn.Model.from_file(DECK) as model:
-        model.initialize(write_output=False)
-        model.set_input("speed", V_HI)
-        model.advance(HOLD)
-        model.set_input("speed", speed)
-        t = np.arange(1, int(round(after / 0.005)) + 1) * 0.005
-        y = []
-        for tk in t:
-            model.advance(HOLD + tk)
-            y.append(model.output("bodies/ws/position_track")[1])
-    tp, ap = st.half_cycle_peaks(t, np.array(y), st.GROWTH_FLOOR)
+    tp, ap = st.peaks_after_speed_change(DECK, speed, V_HI, HOLD, after)
     return [float(ap[min(np.searchsorted(tp, s), ap.size - 1)]) for s in (0.0, 5.0, 10.0, after)]
 
 

@@ -294,6 +294,28 @@ def probe_growth(deck, speed: float, channel: str, t_from: float, t_end: float, 
     return growth_of(path, speed, channel, t_from, t_end)
 
 
+def peaks_after_speed_change(deck, speed: float, hold_speed: float, hold: float, after: float,
+                             channel: str = "bodies/ws/position_track", component: int = 1,
+                             sample: float = 0.005) -> tuple[np.ndarray, np.ndarray]:
+    """Half-cycle peaks (times from the change, amplitudes) of one output over ``after``
+    seconds at ``speed``, starting from the motion reached after ``hold`` seconds at
+    ``hold_speed`` (e.g. a hunting cycle): where a hunting cycle lives or dies at constant
+    speed, the reference of the ramp method (docs/theory_stability.md 5a). Steps the deck
+    through the C API (input "speed"), sampling every ``sample`` seconds."""
+    from .model import Model
+    with Model.from_file(deck) as model:
+        model.initialize(write_output=False)
+        model.set_input("speed", hold_speed)
+        model.advance(hold)
+        model.set_input("speed", speed)
+        t = np.arange(1, int(round(after / sample)) + 1) * sample
+        y = []
+        for tk in t:
+            model.advance(hold + tk)
+            y.append(model.output(channel)[component])
+    return half_cycle_peaks(t, np.array(y), GROWTH_FLOOR)
+
+
 def oscillation_frequency(peak_times: np.ndarray) -> float | None:
     """Frequency [Hz] from half-cycle peak times (two per period); None below 3 peaks."""
     if len(peak_times) < 3:

@@ -34,7 +34,7 @@ import numpy as np
 import pytest
 
 import raildyn
-from raildyn.stability import GROWTH_FLOOR, half_cycle_peaks
+from raildyn.stability import peaks_after_speed_change
 
 REPO = Path(__file__).resolve().parents[2]
 DECKS = REPO / "tests" / "decks"
@@ -116,18 +116,8 @@ def test_linear_critical_speed_and_hunting_frequency(linear):
 
 def hunting_after_speed_change(speed, hold_speed=100.0, hold=3.0, after=20.0):
     """Half-cycle peaks of the wheelset's lateral shift over ``after`` seconds at ``speed``,
-    starting from the limit cycle reached at ``hold_speed`` (C API: set_input "speed")."""
-    with raildyn.Model.from_file(HUNTING) as model:
-        model.initialize(write_output=False)
-        model.set_input("speed", hold_speed)
-        model.advance(hold)
-        model.set_input("speed", speed)
-        t = np.arange(1, int(round(after / 0.005)) + 1) * 0.005
-        y = []
-        for tk in t:
-            model.advance(hold + tk)
-            y.append(model.output("bodies/ws/position_track")[1])
-    return half_cycle_peaks(t, np.array(y), GROWTH_FLOOR)
+    starting from the limit cycle reached at ``hold_speed``."""
+    return peaks_after_speed_change(HUNTING, speed, hold_speed, hold, after)
 
 
 def test_ramp_extrapolates_to_where_hunting_ends(raildyn_exe, linear, tmp_path):
