@@ -1,11 +1,13 @@
 """The runner on track-only scenes: run, track export, exit codes, progress, and a run killed
 half-way leaving a readable file (issue: foundation, items 5 and 6)."""
 import os
+import re
 import signal
 import subprocess
 import time
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pytest
 
@@ -149,3 +151,34 @@ def test_progress_on_a_terminal(raildyn_exe, tmp_path):
     text = b"".join(chunks).decode(errors="replace")
     assert os.WEXITSTATUS(status) == 0, text
     assert "real time" in text and "%" in text and "t = " in text, text
+
+
+def test_progress_shows_the_integrators_steps(raildyn_exe, tmp_path):
+    """The progress line's last 'N steps, h = H s' are the integrator's counts that the
+    results file records at the end (/meta/solver n_steps, h_last)."""
+    import pty
+    repo = Path(__file__).resolve().parents[2]
+    d = tmp_path / "wheelset.nml"
+    d.write_text(f"&include file = '{repo / 'inputs' / 'tgv_wheelset.nml'}' /\n&simulation t_end = 2.0 /\n")
+    pid, fd = pty.fork()
+    if pid == 0:  # child: stderr is the pty
+        os.execv(str(raildyn_exe), [str(raildyn_exe), "run", str(d), "-o", str(tmp_path / "w.h5")])
+    chunks = []
+    try:
+        while True:
+            try:
+                data = os.read(fd, 4096)
+            except OSError:
+                break
+            if not data:
+                break
+            chunks.append(data)
+    finally:
+        _, status = os.waitpid(pid, 0)
+    text = b"".join(chunks).decode(errors="replace")
+    assert os.WEXITSTATUS(status) == 0, text
+    steps, h = re.findall(r"(\d+) steps, h = +([0-9.E+-]+) s", text)[-1]
+    with h5py.File(tmp_path / "w.h5", "r") as f:
+        solver = dict(f["meta/solver"].attrs)
+    assert int(steps) == int(solver["n_steps"]) > 0, (steps, solver)
+    assert float(h) == pytest.approx(float(solver["h_last"]), rel=0.06), (h, solver)
