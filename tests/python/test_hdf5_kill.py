@@ -1,7 +1,7 @@
 """A writer process killed with SIGKILL half-way leaves a readable results file holding
 at least every step up to its last flush (SWMR, docs/output.md).
 
-The demo (tests/fortran/hdf5/hdf5_writer_demo.f90) writes row k = (0.01 k | k, sin(0.1 k),
+The demo (tests/fortran/io/hdf5/hdf5_writer_demo.f90) writes row k = (0.01 k | k, sin(0.1 k),
 -2 k | 1000 + k) slowly for ever and prints "flushed <n>" after each flush; the expected
 values are recomputed here from that closed form."""
 

@@ -4,7 +4,7 @@ Oracles independent of the numbers: naming the left profiles again on the right 
 nothing (CSV identical to the plain scan; scene outputs bit for bit those of today's deck),
 and swapping the left and right rails mirrors the scan (delta_r(y) = -delta_r'(-y), roll
 odd, patch counts swapped); the closed-form check of delta_r(0) is
-tests/fortran/contact_geometry/test_side_profiles.f90 (d)."""
+tests/fortran/contact/geometry/test_side_profiles.f90 (d)."""
 import os
 import subprocess
 from pathlib import Path

@@ -20,7 +20,8 @@ program test_frozen_and_spin
   use rd_external_loads, only: external_loads_t, external_load_t, LOAD_FRAME_FIXED, LOAD_FRAME_TRACK, LOAD_FRAME_BODY
   use rd_linear_spring_damper, only: linear_spring_damper_t
   use rd_integrator, only: integrator_t, integrator_settings_t
-  use rd_test_support, only: straight_track_t, canted_circle_t, rk4_integrate, check, failures
+  use rd_dynamics_test_support, only: straight_track_t, canted_circle_t, rk4_integrate
+  use rd_test_support, only: check, test_summary
   implicit none
   real(wp), parameter :: r0 = 0.46_wp
   class(track_geometry_t), pointer :: track
@@ -36,27 +37,25 @@ program test_frozen_and_spin
   ! 2a: constant speed, pure rolling
   beta = spin_run(constant_speed(30.0_wp), 0.3_wp, 0.0_wp, .false., 10.0_wp, t)
   write (buf, '(a,es10.3)') 'beta - beta0 = ', beta - 0.3_wp
-  call check('free wheelset at constant V keeps beta', abs(beta - 0.3_wp) < 1e-13_wp, trim(buf))
+  call check(abs(beta - 0.3_wp) < 1e-13_wp, 'free wheelset at constant V keeps beta', detail=trim(buf))
   ! 2b: spin deviation
   beta = spin_run(constant_speed(30.0_wp), 0.3_wp, 0.5_wp, .false., 10.0_wp, t)
-  call check('free wheelset: beta = beta0 + dbeta0 t', abs(beta - (0.3_wp + 0.5_wp * 10)) < 1e-12_wp)
+  call check(abs(beta - (0.3_wp + 0.5_wp * 10)) < 1e-12_wp, 'free wheelset: beta = beta0 + dbeta0 t')
   ! 2c: speed ramp 10 -> 40 m/s in 3 s, run 4 s
   call table_speed(ramp, [0.0_wp, 3.0_wp], [10.0_wp, 40.0_wp], error)
   s_exact = 10 * 3 + 0.5_wp * 10 * 3**2 + 40 * 1       ! s(4)
   beta = spin_run(ramp, 0.3_wp, 0.0_wp, .false., 4.0_wp, t)
   write (buf, '(a,es10.3)') 'error ', beta - (0.3_wp + (10 * 4 - s_exact) / r0)
-  call check('free wheelset under a speed ramp keeps its absolute spin', &
-             abs(beta - (0.3_wp + (10 * 4 - s_exact) / r0)) < 1e-10_wp * abs(10 * 4 - s_exact) / r0, trim(buf))  ! rtol 1e-12, ~100 steps
+  call check(abs(beta - (0.3_wp + (10 * 4 - s_exact) / r0)) < 1e-10_wp * abs(10 * 4 - s_exact) / r0, 'free wheelset under a speed ramp keeps its absolute spin', detail=trim(buf))  ! rtol 1e-12, ~100 steps
   ! 3: frozen spin: theta reconstructs to s/r0 + beta0
   beta = spin_run(ramp, 0.3_wp, 0.0_wp, .true., 4.0_wp, t)
   write (buf, '(a,es10.3)') 'theta - (s/r0 + beta0) = ', t - (s_exact / r0 + 0.3_wp)
-  call check('frozen spin: theta = s/r0 + beta0', abs(t - (s_exact / r0 + 0.3_wp)) < 1e-12_wp * s_exact / r0, trim(buf))
+  call check(abs(t - (s_exact / r0 + 0.3_wp)) < 1e-12_wp * s_exact / r0, 'frozen spin: theta = s/r0 + beta0', detail=trim(buf))
 
   call loads_check()
   call errors_check()
 
-  if (failures > 0) error stop 1
-  print '(a)', 'test_frozen_and_spin: all checks passed'
+  call test_summary('test_frozen_and_spin')
 
 contains
 
@@ -82,15 +81,15 @@ contains
     call mb%add_element(spring, error)
     spring%body1 = 0; spring%body2 = 1; spring%u1 = 0; spring%u2 = 0
     call mb%add_element(spring, error)
-    call check('state size = 2 (6 + 3 free)', mb%state_size() == 18)
+    call check(mb%state_size() == 18, 'state size = 2 (6 + 3 free)')
     allocate (y(mb%state_size()), ydot(mb%state_size()))
     call mb%initial_state(y, error)
     call rk4_integrate(mb, 0.0_wp, 1.0_wp, 1.0e-3_wp, y, ok)
     call mb%rhs(1.0_wp, y, ydot, error, rec)
-    call check('frozen coordinates stay exactly at q0', all(mb%kin(2)%q([1, 3, 5]) == body(2)%q0([1, 3, 5])))
-    call check('frozen rates and accelerations are zero', all(mb%kin(2)%qdot([1, 3, 5]) == 0) .and. &
-               all(mb%kin(2)%qddot([1, 3, 5]) == 0))
-    call check('free coordinates of the same body moved', all(abs(mb%kin(2)%q([2, 4, 6]) - body(2)%q0([2, 4, 6])) > 1e-3_wp))
+    call check(all(mb%kin(2)%q([1, 3, 5]) == body(2)%q0([1, 3, 5])), 'frozen coordinates stay exactly at q0')
+    call check(all(mb%kin(2)%qdot([1, 3, 5]) == 0) .and. &
+               all(mb%kin(2)%qddot([1, 3, 5]) == 0), 'frozen rates and accelerations are zero')
+    call check(all(abs(mb%kin(2)%q([2, 4, 6]) - body(2)%q0([2, 4, 6])) > 1e-3_wp), 'free coordinates of the same body moved')
   end subroutine frozen_check
 
   !> Run a wheelset body with no forces; returns beta (state) and theta (kinematics).
@@ -122,7 +121,7 @@ contains
     call integ%init(mb, 0.0_wp, y, settings, error)
     if (.not. allocated(error)) call integ%advance(t_end, y, error)
     ok = .not. allocated(error)
-    call check('integration', ok)
+    call check(ok, 'integration')
     call integ%destroy()
     call mb%rhs(t_end, y, ydot, error, rec)
     theta = mb%kin(1)%q(6)
@@ -167,17 +166,17 @@ contains
     ! t = 0: track-frame force along X_T, body-frame moment about the body z (= track z
     ! for a pure yaw): xdd = 10/m, yaw acceleration 8/Jz; the fixed-frame force is off
     call mb%rhs(0.0_wp, y, ydot, error, rec)
-    call check('track-frame load', abs(ydot(7) - 0.1_wp) < 1e-14_wp .and. abs(ydot(8)) < 1e-14_wp .and. abs(ydot(9)) < 1e-14_wp)
-    call check('body-frame moment', abs(ydot(10) - 0.2_wp) < 1e-14_wp)
+    call check(abs(ydot(7) - 0.1_wp) < 1e-14_wp .and. abs(ydot(8)) < 1e-14_wp .and. abs(ydot(9)) < 1e-14_wp, 'track-frame load')
+    call check(abs(ydot(10) - 0.2_wp) < 1e-14_wp, 'body-frame moment')
     ! t = 1.5: fixed-frame +Z force 50 N seen in the canted track frame: (0, sin, cos)(phi_t)
     call mb%rhs(1.5_wp, y, ydot, error, rec)
     expect = [0.1_wp, 0.5_wp * sin(phi_t), 0.5_wp * cos(phi_t)]
-    call check('fixed-frame load switched on', maxval(abs(ydot(7:9) - expect)) < 1e-14_wp)
+    call check(maxval(abs(ydot(7:9) - expect)) < 1e-14_wp, 'fixed-frame load switched on')
     call mb%set_override_load(1, [0.0_wp, 0.0_wp, -50.0_wp], [0.0_wp, 0.0_wp, 0.0_wp], error)
     call mb%rhs(1.5_wp, y, ydot, error, rec)
-    call check('override load adds', maxval(abs(ydot(7:9) - [0.1_wp, 0.0_wp, 0.0_wp])) < 1e-14_wp)
+    call check(maxval(abs(ydot(7:9) - [0.1_wp, 0.0_wp, 0.0_wp])) < 1e-14_wp, 'override load adds')
     call mb%set_override_load(2, [0.0_wp, 0.0_wp, -50.0_wp], [0.0_wp, 0.0_wp, 0.0_wp], error)
-    call check('override load: bad body index rejected', allocated(error))
+    call check(allocated(error), 'override load: bad body index rejected')
   end subroutine loads_check
   !> Bad input gives one clear error; a singular configuration is reported, not a NaN.
   subroutine errors_check()
@@ -188,19 +187,19 @@ contains
     body(1)%name = 'bad'
     body(1)%inertia = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
     call mb%init(body, [0.0_wp], track, constant_speed(1.0_wp), error)
-    call check('zero mass rejected', allocated(error))
+    call check(allocated(error), 'zero mass rejected')
     if (allocated(error)) print '(a)', '  message: ' // error%message
     body(1)%mass = 1
     body(1)%frame = 2
     call mb%init(body, [0.0_wp], track, constant_speed(1.0_wp), error)
-    call check('frame index out of range rejected', allocated(error))
+    call check(allocated(error), 'frame index out of range rejected')
     body(1)%frame = 1
     call mb%init(body, [0.0_wp], track, constant_speed(1.0_wp), error)
     allocate (y(mb%state_size()), ydot(mb%state_size()))
     call mb%initial_state(y, error)
     y(5) = 2 * atan(1.0_wp)          ! 90 deg roll
     call mb%rhs(0.0_wp, y, ydot, error, rec)
-    call check('90 deg roll reported as an error', allocated(error))
+    call check(allocated(error), '90 deg roll reported as an error')
     if (allocated(error)) print '(a)', '  message: ' // error%message
   end subroutine errors_check
 end program test_frozen_and_spin

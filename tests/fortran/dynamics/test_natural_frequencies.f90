@@ -15,7 +15,8 @@ program test_natural_frequencies
   use rd_body_spec, only: body_spec_t
   use rd_multibody, only: multibody_t
   use rd_linear_spring_damper, only: linear_spring_damper_t
-  use rd_test_support, only: straight_track_t, check, failures
+  use rd_dynamics_test_support, only: straight_track_t
+  use rd_test_support, only: check, test_summary
   implicit none
   real(wp), parameter :: m = 1000, ix = 300, g = 9.80665_wp, ky = 2.0e5_wp, kz = 1.0e6_wp
   real(wp), allocatable :: w(:)
@@ -26,8 +27,8 @@ program test_natural_frequencies
   w = frequencies(0.0_wp, ky, [.false., .false., .false., .true., .true., .true.])
   expect = [sqrt(ky / m), sqrt(ky / m), sqrt(kz / m)]     ! x and y share the shear stiffness
   write (buf, '(a,*(f11.6))') 'computed, closed form ', w, expect
-  call check('A: longitudinal, lateral and vertical spring-mass', size(w) == 3 .and. &
-             maxval(abs(w - expect) / expect) < 1e-6_wp, trim(buf))
+  call check(size(w) == 3 .and. &
+             maxval(abs(w - expect) / expect) < 1e-6_wp, 'A: longitudinal, lateral and vertical spring-mass', detail=trim(buf))
 
   ! B: pivot l above the CG
   l = 0.5_wp
@@ -40,16 +41,15 @@ program test_natural_frequencies
   expect = [sqrt(lam1), sqrt(lam2), sqrt(kz / m)]
   call sort(expect)
   write (buf, '(a,*(f11.6))') 'computed, closed form ', w, expect
-  call check('B: lateral-roll pair and vertical', size(w) == 3 .and. maxval(abs(w - expect) / expect) < 1e-6_wp, trim(buf))
+  call check(size(w) == 3 .and. maxval(abs(w - expect) / expect) < 1e-6_wp, 'B: lateral-roll pair and vertical', detail=trim(buf))
 
   ! C: stiff pivot -> compound pendulum
   w = frequencies(l, 1.0e10_wp, [.true., .false., .true., .true., .false., .true.])
   expect(1) = sqrt(m * g * l / (ix + m * l**2))
   write (buf, '(a,*(f12.7))') 'pendulum mode, closed form ', w(1), expect(1)
-  call check('C: compound pendulum about a stiff pivot', abs(w(1) - expect(1)) / expect(1) < 1e-5_wp, trim(buf))
+  call check(abs(w(1) - expect(1)) / expect(1) < 1e-5_wp, 'C: compound pendulum about a stiff pivot', detail=trim(buf))
 
-  if (failures > 0) error stop 1
-  print '(a)', 'test_natural_frequencies: all checks passed'
+  call test_summary('test_natural_frequencies')
 
 contains
 

@@ -11,7 +11,8 @@ program test_point_motion
   use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics
   use rd_point_motion, only: point_motion_t, compute_point_motion
   use rd_track_point, only: track_point_t
-  use rd_test_support, only: canted_circle_t, zxy_rotation, check, failures
+  use rd_dynamics_test_support, only: canted_circle_t, zxy_rotation
+  use rd_test_support, only: check, test_summary
   implicit none
   type(canted_circle_t) :: track
   real(wp), parameter :: v0 = 30.0_wp, acc = 0.7_wp, s0 = 12.0_wp, g = 9.81_wp
@@ -27,7 +28,7 @@ program test_point_motion
   call compare('body', .false., 0.37_wp)
   call compare('body later', .false., 1.91_wp)
   call compare('wheelset intermediate frame', .true., 0.37_wp)
-  if (failures > 0) error stop 1
+  call test_summary('test_point_motion')
 
 contains
 
@@ -79,21 +80,18 @@ contains
       b = zxy_rotation(q(4:6))
     end if
     write (detail, '(a,3es11.3)') 'position error', m%position_fixed - r
-    call check(label // ': position fixed', maxval(abs(m%position_fixed - r)) < 1e-12_wp, trim(detail))
-    call check(label // ': position track', maxval(abs(m%position_track - matmul(at, r - tp%r))) < 1e-12_wp)
+    call check(maxval(abs(m%position_fixed - r)) < 1e-12_wp, label // ': position fixed', detail=trim(detail))
+    call check(maxval(abs(m%position_track - matmul(at, r - tp%r))) < 1e-12_wp, label // ': position track')
     write (detail, '(a,3es11.3)') 'velocity error', matmul(tp%a, m%velocity_track) - v_fd
-    call check(label // ': velocity track', maxval(abs(matmul(tp%a, m%velocity_track) - v_fd)) < 1e-7_wp, &
-               trim(detail))
+    call check(maxval(abs(matmul(tp%a, m%velocity_track) - v_fd)) < 1e-7_wp, label // ': velocity track', detail=trim(detail))
     write (detail, '(a,3es11.3,a,3f10.4)') 'acceleration error', matmul(tp%a, m%acceleration_track) - a_fd, &
       ' of', a_fd
-    call check(label // ': acceleration track', maxval(abs(matmul(tp%a, m%acceleration_track) - a_fd)) < 1e-6_wp, &
-               trim(detail))
-    call check(label // ': body components', &
-               maxval(abs(matmul(b, m%velocity_body) - m%velocity_track)) < 1e-12_wp .and. &
-               maxval(abs(matmul(b, m%acceleration_body) - m%acceleration_track)) < 1e-12_wp)
+    call check(maxval(abs(matmul(tp%a, m%acceleration_track) - a_fd)) < 1e-6_wp, label // ': acceleration track', detail=trim(detail))
+    call check(maxval(abs(matmul(b, m%velocity_body) - m%velocity_track)) < 1e-12_wp .and. &
+               maxval(abs(matmul(b, m%acceleration_body) - m%acceleration_track)) < 1e-12_wp, label // ': body components')
     ! an accelerometer reads a - g, g = (0, 0, -g) fixed
-    call check(label // ': specific force', maxval(abs(matmul(tp%a, matmul(b, m%specific_force_body)) - &
-               (a_fd - [0.0_wp, 0.0_wp, -g]))) < 1e-6_wp)
+    call check(maxval(abs(matmul(tp%a, matmul(b, m%specific_force_body)) - &
+               (a_fd - [0.0_wp, 0.0_wp, -g]))) < 1e-6_wp, label // ': specific force')
   end subroutine compare
 
   !> Central first difference of the point's position over +-step.

@@ -23,7 +23,8 @@ program test_static_positions
   use rd_static_preload, only: solve_static_positions
   use rd_linear_spring_damper, only: linear_spring_damper_t
   use rd_series_spring_damper, only: series_spring_damper_t
-  use rd_test_support, only: canted_circle_t, check, failures
+  use rd_dynamics_test_support, only: canted_circle_t
+  use rd_test_support, only: check, stop_on, test_summary
   implicit none
   real(wp), parameter :: m = 1000, z0 = 1.0_wp, kz = 2.0e6_wp, ks = 5.0e6_wp, phi = 0.1_wp
   type(canted_circle_t), target :: track
@@ -46,7 +47,7 @@ program test_static_positions
   b(1)%q0 = [0.0_wp, 0.0_wp, z0, 0.0_wp, 0.0_wp, 0.0_wp]
   b(1)%frozen = [.false., .false., .false., .true., .true., .true.]
   call mb%init(b, [0.0_wp], track, constant_speed(20.0_wp), error, sigma0=50.0_wp)
-  call stop_on('init')
+  call stop_on(error, 'init')
   ! both from the ground point 0.5 m below the track origin to the block's point 1 m below
   ! its centre: 0.5 m long and vertical at the start, unstressed
   spring%body1 = 0; spring%body2 = 1
@@ -55,7 +56,7 @@ program test_static_positions
   spring%stiffness = [1.0e6_wp, 0.0_wp, kz]
   spring%free_length = [0.0_wp, 0.0_wp, 0.5_wp]
   call mb%add_element(spring, error)
-  call stop_on('spring')
+  call stop_on(error, 'spring')
   damper%body1 = 0; damper%body2 = 1
   damper%u1 = [0.0_wp, 0.0_wp, -0.5_wp]
   damper%u2 = [0.0_wp, 0.0_wp, -1.0_wp]
@@ -63,53 +64,42 @@ program test_static_positions
   damper%damping = 1.0e5_wp
   damper%free_length = 0.5_wp
   call mb%add_element(damper, error)
-  call stop_on('series damper')
+  call stop_on(error, 'series damper')
 
   allocate (y(mb%state_size()), ydot(mb%state_size()))
   call mb%initial_state(y, error)
-  call stop_on('initial state')
+  call stop_on(error, 'initial state')
   n = mb%nfree
   kx = mb%free_slot(1, DOF_X)
   ky = mb%free_slot(1, DOF_Y)
   kz_slot = mb%free_slot(1, DOF_Z)
   kd = 2 * n + 1
-  call check('the series damper starts relaxed', abs(y(kd)) < 1.0e-15_wp)
+  call check(abs(y(kd)) < 1.0e-15_wp, 'the series damper starts relaxed')
 
   held = .false.
   held(DOF_Y, 1) = .true.
   call solve_static_positions(mb, 0.0_wp, y, residual, error, held=held)
-  call stop_on('static positions')
+  call stop_on(error, 'static positions')
 
   z_expected = z0 - m * standard_gravity * cos(phi) / kz
   write (buf, '(a, es12.5, a, es12.5, a, es9.2)') 'z = ', y(kz_slot), ' m, closed form ', z_expected, &
     ', residual ', residual
-  call check('z: the spring alone carries m g cos(phi)', abs(y(kz_slot) - z_expected) <= 1.0e-12_wp, trim(buf))
-  call check('x stays', abs(y(kx)) <= 1.0e-12_wp)
-  call check('the held y keeps its value', y(ky) == 0.0_wp)
+  call check(abs(y(kz_slot) - z_expected) <= 1.0e-12_wp, 'z: the spring alone carries m g cos(phi)', detail=trim(buf))
+  call check(abs(y(kx)) <= 1.0e-12_wp, 'x stays')
+  call check(y(ky) == 0.0_wp, 'the held y keeps its value')
 
   ! the model at the solution, frame at rest (the solve's frozen time)
   mb%speed = constant_speed(0.0_wp)
   call mb%rhs(0.0_wp, y, ydot, error, rec)
-  call stop_on('rhs')
+  call stop_on(error, 'rhs')
   tension = -mb%el_res(2)%force_local(1)
   write (buf, '(a, es10.3, a, es10.3, a, es10.3, a)') 'series tension ', tension, ' N, damper rate ', &
     ydot(kd), ' m/s, held y acceleration ', ydot(n + ky), ' m/s^2'
-  call check('the series damper carries no static force', abs(tension) <= 1.0e-6_wp, trim(buf))
-  call check('solved accelerations vanish', abs(ydot(n + kx)) <= 1.0e-9_wp .and. abs(ydot(n + kz_slot)) <= 1.0e-9_wp)
-  call check('held y: residual = -g sin(phi)', &
-             abs(ydot(n + ky) + standard_gravity * sin(phi)) <= 1.0e-12_wp * standard_gravity, trim(buf))
-  call check('residual reported = max solved acceleration', residual <= 1.0e-9_wp)
+  call check(abs(tension) <= 1.0e-6_wp, 'the series damper carries no static force', detail=trim(buf))
+  call check(abs(ydot(n + kx)) <= 1.0e-9_wp .and. abs(ydot(n + kz_slot)) <= 1.0e-9_wp, 'solved accelerations vanish')
+  call check(abs(ydot(n + ky) + standard_gravity * sin(phi)) <= 1.0e-12_wp * standard_gravity, 'held y: residual = -g sin(phi)', detail=trim(buf))
+  call check(residual <= 1.0e-9_wp, 'residual reported = max solved acceleration')
 
-  if (failures > 0) error stop 1
-  write (*, '(a)') 'all static-position checks passed'
+  call test_summary('test_static_positions')
 
-contains
-
-  subroutine stop_on(what)
-    character(len=*), intent(in) :: what
-    if (allocated(error)) then
-      write (*, '(a)') 'FAILED: ' // what // ': ' // error%message
-      error stop 1
-    end if
-  end subroutine stop_on
 end program test_static_positions

@@ -19,7 +19,8 @@ program test_steady_curving
   use rd_linear_spring_damper, only: linear_spring_damper_t
   use rd_rotation, only: rot_x
   use rd_integrator, only: integrator_t, integrator_settings_t
-  use rd_test_support, only: canted_circle_t, rk4_integrate, check, failures
+  use rd_dynamics_test_support, only: canted_circle_t, rk4_integrate
+  use rd_test_support, only: check, test_summary
   implicit none
   real(wp), parameter :: m = 2000, g = 9.80665_wp, v = 40, r = 600, cant = -0.1_wp
   real(wp), parameter :: ky = 2.0e5_wp, kz = 8.0e5_wp
@@ -33,13 +34,13 @@ program test_steady_curving
   w_formula = -m * (v**2 / r * cos(cant) + g * sin(cant)) / ky
   write (buf, '(a,es14.7,a,es14.7,a,es9.2,a,es14.7)') 'y = ', y_left(2), ' exact ', w(2), ' diff ', y_left(2) - w(2), &
     ' textbook ', w_formula
-  call check('steady curving: y against the exact steady state', abs(y_left(2) - w(2)) < 1e-9_wp, trim(buf))
-  call check('steady curving: z against the exact steady state', abs(y_left(3) - w(3)) < 1e-9_wp)
+  call check(abs(y_left(2) - w(2)) < 1e-9_wp, 'steady curving: y against the exact steady state', detail=trim(buf))
+  call check(abs(y_left(3) - w(3)) < 1e-9_wp, 'steady curving: z against the exact steady state')
   ! the textbook formula neglects the O(y/R) change of radius and the vertical spring's tilt
-  call check('steady curving: textbook formula within O(y/R)', abs(y_left(2) - w_formula) < 1e-3_wp * abs(w_formula))
-  call check('steady curving: outward (to the right, y < 0) in a left curve with cant deficiency', y_left(2) < 0)
-  call check('steady curving mirror: y', abs(y_left(2) + y_right(2)) < 1e-12_wp)
-  call check('steady curving mirror: z', abs(y_left(3) - y_right(3)) < 1e-12_wp)
+  call check(abs(y_left(2) - w_formula) < 1e-3_wp * abs(w_formula), 'steady curving: textbook formula within O(y/R)')
+  call check(y_left(2) < 0, 'steady curving: outward (to the right, y < 0) in a left curve with cant deficiency')
+  call check(abs(y_left(2) + y_right(2)) < 1e-12_wp, 'steady curving mirror: y')
+  call check(abs(y_left(3) - y_right(3)) < 1e-12_wp, 'steady curving mirror: z')
 
   ! ---- 2. mirror of a free body
   call free_run(+1.0_wp / 400, -0.08_wp, sl)
@@ -47,11 +48,10 @@ program test_steady_curving
   err = maxval(abs(sl([1, 3, 6, 7, 9, 12]) - sr([1, 3, 6, 7, 9, 12]))) + &
         maxval(abs(sl([2, 4, 5, 8, 10, 11]) + sr([2, 4, 5, 8, 10, 11])))
   write (buf, '(a,es9.2,a,3es10.2)') 'mirror error ', err, '; y, psi, phi = ', sl(2), sl(4), sl(5)
-  call check('mirror: left curve = mirrored right curve', err < 1e-12_wp, trim(buf))
-  call check('mirror: the curve really moved the body', abs(sl(2)) > 1e-4_wp .and. abs(sl(4)) > 1e-4_wp)
+  call check(err < 1e-12_wp, 'mirror: left curve = mirrored right curve', detail=trim(buf))
+  call check(abs(sl(2)) > 1e-4_wp .and. abs(sl(4)) > 1e-4_wp, 'mirror: the curve really moved the body')
 
-  if (failures > 0) error stop 1
-  print '(a)', 'test_steady_curving: all checks passed'
+  call test_summary('test_steady_curving')
 
 contains
 
@@ -83,7 +83,7 @@ contains
     call mb%add_element(spring, error)
     allocate (y(mb%state_size()))
     call mb%initial_state(y, error)
-    call check('frozen x and angles leave the state', size(y) == 4)
+    call check(size(y) == 4, 'frozen x and angles leave the state')
     settings%method = 'bdf'; settings%rtol = 1.0e-10_wp; settings%atol = 1.0e-13_wp
     settings%max_num_steps = 100000
     call integ%init(mb, 0.0_wp, y, settings, error)
@@ -93,7 +93,7 @@ contains
     call integ%destroy()
     q = 0
     q(2:3) = y(1:2)
-    call check('settled (rates ~ 0)', ok .and. maxval(abs(y(3:4))) < 1e-10_wp)
+    call check(ok .and. maxval(abs(y(3:4))) < 1e-10_wp, 'settled (rates ~ 0)')
   end subroutine settle
 
   !> Exact steady state: the body point P = p + A w turns with the frame at rate V kappa

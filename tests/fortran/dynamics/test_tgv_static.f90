@@ -24,7 +24,8 @@ program test_tgv_static
   use rd_multibody, only: multibody_t, ELEMENT_OUT
   use rd_static_preload, only: solve_static_preloads, solve_static_positions
   use rd_linear_spring_damper, only: linear_spring_damper_t
-  use rd_test_support, only: straight_track_t, rk4_integrate, check, failures
+  use rd_dynamics_test_support, only: straight_track_t, rk4_integrate
+  use rd_test_support, only: check, failure_count, test_summary
   implicit none
   real(wp), parameter :: g = 9.80665_wp, r0 = 0.45_wp, hb = 0.65_wp, hc = 1.90_wp
   real(wp), parameter :: m_ws = 1500, m_bf = 3020, m_cb = 43200
@@ -38,13 +39,12 @@ program test_tgv_static
     v_run = merge(0.0_wp, 80.0_wp, irun == 1)
     call run(v_run, res, qdd, drift)
     write (buf, '(a,f5.1,a,es9.2,a,es9.2,a)') 'V = ', v_run, ' m/s: max |qddot| = ', qdd, ', drift over 2 s = ', drift, ' m'
-    call check('TGV 001 starts in static equilibrium', qdd < 1e-9_wp .and. drift < 1e-9_wp, trim(buf))
+    call check(qdd < 1e-9_wp .and. drift < 1e-9_wp, 'TGV 001 starts in static equilibrium', detail=trim(buf))
   end do
 
   call sag_check()
 
-  if (failures > 0) error stop 1
-  print '(a)', 'test_tgv_static: all checks passed'
+  call test_summary('test_tgv_static')
 
 contains
 
@@ -70,7 +70,7 @@ contains
     end do
     write (buf, '(a,3f10.6,a,3f10.6,a,es9.2)') 'sag ws/bogie/body ', got([1, 5, 7]), ' hand ', expect([1, 5, 7]), &
       ' residual ', residual
-    call check('no preloads: static positions = springs in series', maxval(abs(got - expect)) < 1e-9_wp, trim(buf))
+    call check(maxval(abs(got - expect)) < 1e-9_wp, 'no preloads: static positions = springs in series', detail=trim(buf))
   end subroutine sag_check
 
   subroutine run(v, residual, qdd_max, drift_max)
@@ -83,7 +83,7 @@ contains
     integer :: k, e
     logical :: ok, rec
     call build(mb, v)
-    call check('42 free coordinates', mb%state_size() == 84)
+    call check(mb%state_size() == 84, '42 free coordinates')
     allocate (y(mb%state_size()), y0(mb%state_size()), ydot(mb%state_size()))
     call mb%initial_state(y, error)
     call solve_static_preloads(mb, 0.0_wp, y, residual, error)
@@ -106,10 +106,10 @@ contains
       end select
       if (.not. ok) then
         write (buf, '(a,i0,a,f12.3)') 'element ', e, ' ' // mb%elements(e)%e%name // ' Fz = ', fz
-        call check('preload = hand statics', .false., trim(buf))
+        call check(.false., 'preload = hand statics', detail=trim(buf))
       end if
     end do
-    call check('preloads match the hand statics (secondary, primary, wheel)', failures == 0)
+    call check(failure_count() == 0, 'preloads match the hand statics (secondary, primary, wheel)')
     y0 = y
     call rk4_integrate(mb, 0.0_wp, 2.0_wp, 2.0e-4_wp, y, ok)
     drift_max = 0

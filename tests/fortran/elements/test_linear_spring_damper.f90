@@ -15,7 +15,8 @@ program test_linear_spring_damper
   use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics
   use rd_force_element, only: element_result_t
   use rd_linear_spring_damper, only: linear_spring_damper_t
-  use rd_test_support, only: canted_circle_t, check, failures
+  use rd_dynamics_test_support, only: canted_circle_t
+  use rd_test_support, only: check, test_summary
   implicit none
   type(linear_spring_damper_t) :: sp
   type(body_kinematics_t) :: k1, k2
@@ -34,14 +35,14 @@ program test_linear_spring_damper
   sp%body1 = 1; sp%body2 = 2
   sp%stiffness = [1.0e5_wp, 2.0e5_wp, 3.0e5_wp]
   call sp%evaluate(0.0_wp, k1, k2, xd, res, xd)
-  call check('force along body 1 x = fixed Y: -kx d', maxval(abs(res%force - [0.0_wp, -1.0e3_wp, 0.0_wp])) < 1e-9_wp)
-  call check('deflection in element axes', maxval(abs(res%deflection - [0.01_wp, 0.0_wp, 0.0_wp])) < 1e-15_wp)
+  call check(maxval(abs(res%force - [0.0_wp, -1.0e3_wp, 0.0_wp])) < 1e-9_wp, 'force along body 1 x = fixed Y: -kx d')
+  call check(maxval(abs(res%deflection - [0.01_wp, 0.0_wp, 0.0_wp])) < 1e-15_wp, 'deflection in element axes')
   sp%free_length = [0.004_wp, 0.0_wp, 0.0_wp]
   sp%preload = [0.0_wp, 0.0_wp, 500.0_wp]
   sp%actuator = [0.0_wp, 70.0_wp, 0.0_wp]
   call sp%evaluate(0.0_wp, k1, k2, xd, res, xd)
   ! element y = body-1 y = fixed -X
-  call check('free length, preload, actuator', maxval(abs(res%force - [-70.0_wp, -600.0_wp, 500.0_wp])) < 1e-9_wp)
+  call check(maxval(abs(res%force - [-70.0_wp, -600.0_wp, 500.0_wp])) < 1e-9_wp, 'free length, preload, actuator')
 
   ! ---- 2./3. power balance on a canted curve, general configuration
   circle%kappa = 1.0_wp / 250; circle%cant = -0.1_wp
@@ -66,7 +67,7 @@ program test_linear_spring_damper
   dudt = (energy(q1 + eps * qd1, q2 + eps * qd2) - energy(q1 - eps * qd1, q2 - eps * qd2)) / (2 * eps)
   e_scale = norm2(res%force) * norm2(qd1(1:3) - qd2(1:3))
   write (buf, '(a,es12.5,a,es12.5)') 'power ', power, ' -dU/dt ', -dudt
-  call check('spring is conservative (power = -dU/dt)', abs(power + dudt) < 1e-7_wp * e_scale, trim(buf))
+  call check(abs(power + dudt) < 1e-7_wp * e_scale, 'spring is conservative (power = -dU/dt)', detail=trim(buf))
 
   sp%stiffness = 0; sp%preload = 0
   sp%damping = [1.0e3_wp, 2.0e3_wp, 5.0e3_wp]
@@ -77,7 +78,7 @@ program test_linear_spring_damper
     real(wp) :: ddot(3)
     ddot = (defl(q1 + eps * qd1, q2 + eps * qd2) - defl(q1 - eps * qd1, q2 - eps * qd2)) / (2 * eps)
     write (buf, '(a,es12.5,a,es12.5)') 'power ', power, ' -ddot.C ddot ', -sum(sp%damping * ddot**2)
-    call check('damper dissipates -d''.C d''', abs(power + sum(sp%damping * ddot**2)) < 1e-7_wp * abs(power), trim(buf))
+    call check(abs(power + sum(sp%damping * ddot**2)) < 1e-7_wp * abs(power), 'damper dissipates -d''.C d''', detail=trim(buf))
   end block
 
   ! ---- 4. wheelset axle box does not spin
@@ -85,12 +86,10 @@ program test_linear_spring_damper
                                [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 65.0_wp], .true.)
   call compute_body_kinematics(k2, tp, 30.0_wp, 0.0_wp, [0.0_wp, 0.0_wp, 0.46_wp, 0.01_wp, 0.02_wp, 0.0_wp], &
                                [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], .true.)
-  call check('axle-box point independent of the spin angle and rate', &
-             maxval(abs(k1%point_position([0.0_wp, 1.0_wp, 0.2_wp]) - k2%point_position([0.0_wp, 1.0_wp, 0.2_wp]))) < 1e-14_wp &
-             .and. maxval(abs(k1%point_velocity([0.0_wp, 1.0_wp, 0.2_wp]) - k2%point_velocity([0.0_wp, 1.0_wp, 0.2_wp]))) < 1e-12_wp)
+  call check(maxval(abs(k1%point_position([0.0_wp, 1.0_wp, 0.2_wp]) - k2%point_position([0.0_wp, 1.0_wp, 0.2_wp]))) < 1e-14_wp &
+             .and. maxval(abs(k1%point_velocity([0.0_wp, 1.0_wp, 0.2_wp]) - k2%point_velocity([0.0_wp, 1.0_wp, 0.2_wp]))) < 1e-12_wp, 'axle-box point independent of the spin angle and rate')
 
-  if (failures > 0) error stop 1
-  print '(a)', 'test_linear_spring_damper: all checks passed'
+  call test_summary('test_linear_spring_damper')
 
 contains
 

@@ -9,7 +9,8 @@ program test_nonlinear_spring
   use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics
   use rd_force_element, only: element_result_t
   use rd_nonlinear_spring, only: nonlinear_spring_t, force_table_t, make_force_table, table_force
-  use rd_test_support, only: canted_circle_t, check, failures
+  use rd_dynamics_test_support, only: canted_circle_t
+  use rd_test_support, only: check, test_summary
   implicit none
   type(nonlinear_spring_t) :: bs
   type(force_table_t) :: tab
@@ -19,14 +20,14 @@ program test_nonlinear_spring
 
   ! table: 0 -> 0, 5 mm -> 1 kN, 15 mm -> 11 kN (progressive), beyond: slope 1e6 N/m
   call make_force_table(tab, [0.0_wp, 0.005_wp, 0.015_wp], [0.0_wp, 1000.0_wp, 11000.0_wp], error)
-  call check('table accepted', .not. allocated(error))
-  call check('interpolation first segment', abs(table_force(tab, 0.002_wp) - 400.0_wp) < 1e-9_wp)
-  call check('interpolation second segment', abs(table_force(tab, 0.010_wp) - 6000.0_wp) < 1e-9_wp)
-  call check('extrapolation with last slope', abs(table_force(tab, 0.020_wp) - 16000.0_wp) < 1e-9_wp)
+  call check(.not. allocated(error), 'table accepted')
+  call check(abs(table_force(tab, 0.002_wp) - 400.0_wp) < 1e-9_wp, 'interpolation first segment')
+  call check(abs(table_force(tab, 0.010_wp) - 6000.0_wp) < 1e-9_wp, 'interpolation second segment')
+  call check(abs(table_force(tab, 0.020_wp) - 16000.0_wp) < 1e-9_wp, 'extrapolation with last slope')
   call make_force_table(tab, [0.001_wp, 0.005_wp], [0.0_wp, 1000.0_wp], error)
-  call check('table must start at 0', allocated(error))
+  call check(allocated(error), 'table must start at 0')
   call make_force_table(tab, [0.0_wp, 0.005_wp, 0.004_wp], [0.0_wp, 1.0_wp, 2.0_wp], error)
-  call check('table must increase', allocated(error))
+  call check(allocated(error), 'table must increase')
 
   bs%body1 = 1; bs%body2 = 2
   bs%clearance_pos = [0.0_wp, 0.02_wp, 0.0_wp]
@@ -36,16 +37,15 @@ program test_nonlinear_spring
   call make_force_table(bs%table_neg(2), [0.0_wp, 0.01_wp], [0.0_wp, 500.0_wp], error)
   tp = circle%evaluate(0.0_wp)
 
-  call check('inside the clearance: no force (even moving)', abs(lateral(0.015_wp, 0.3_wp)) == 0)
-  call check('inside the negative clearance: no force', abs(lateral(-0.025_wp, 0.3_wp)) == 0)
-  call check('positive side: -F(d - c+)', abs(lateral(0.030_wp, 0.0_wp) + 6000.0_wp) < 1e-9_wp)
-  call check('positive side with damping', abs(lateral(0.030_wp, 0.2_wp) + 6000.0_wp + 100.0_wp) < 1e-9_wp)
-  call check('negative side: own table +F(-d - c-)', abs(lateral(-0.035_wp, 0.0_wp) - 250.0_wp) < 1e-9_wp)
+  call check(abs(lateral(0.015_wp, 0.3_wp)) == 0, 'inside the clearance: no force (even moving)')
+  call check(abs(lateral(-0.025_wp, 0.3_wp)) == 0, 'inside the negative clearance: no force')
+  call check(abs(lateral(0.030_wp, 0.0_wp) + 6000.0_wp) < 1e-9_wp, 'positive side: -F(d - c+)')
+  call check(abs(lateral(0.030_wp, 0.2_wp) + 6000.0_wp + 100.0_wp) < 1e-9_wp, 'positive side with damping')
+  call check(abs(lateral(-0.035_wp, 0.0_wp) - 250.0_wp) < 1e-9_wp, 'negative side: own table +F(-d - c-)')
   deallocate (bs%table_neg(2)%e, bs%table_neg(2)%f)
-  call check('symmetric when no negative table', abs(lateral(-0.040_wp, 0.0_wp) - 6000.0_wp) < 1e-9_wp)
+  call check(abs(lateral(-0.040_wp, 0.0_wp) - 6000.0_wp) < 1e-9_wp, 'symmetric when no negative table')
 
-  if (failures > 0) error stop 1
-  print '(a)', 'test_nonlinear_spring: all checks passed'
+  call test_summary('test_nonlinear_spring')
 contains
   !> Lateral force on body 2 when it sits at y = d with lateral rate yd (body 1 at rest).
   real(wp) function lateral(d, yd) result(f)

@@ -10,7 +10,8 @@ program test_series_spring_damper
   use rd_body_spec, only: body_spec_t
   use rd_multibody, only: multibody_t, ELEMENT_OUT
   use rd_series_spring_damper, only: series_spring_damper_t
-  use rd_test_support, only: straight_track_t, rk4_integrate, check, failures
+  use rd_dynamics_test_support, only: straight_track_t, rk4_integrate
+  use rd_test_support, only: check, test_summary
   implicit none
   type(multibody_t), target :: mb
   class(track_geometry_t), pointer :: track
@@ -34,12 +35,12 @@ program test_series_spring_damper
   sd%body1 = 0; sd%body2 = 1
   sd%stiffness = k; sd%damping = c; sd%free_length = l0
   call mb%add_element(sd, error)
-  call check('state = the damper elongation only', mb%state_size() == 1)
+  call check(mb%state_size() == 1, 'state = the damper elongation only')
   allocate (y(1), ydot(1))
   call mb%initial_state(y, error)
   call mb%rhs(0.0_wp, y, ydot, error, rec)
   call mb%element_output(1, out)
-  call check('starts relaxed', abs(out(4)) < 1e-9_wp .and. abs(ydot(1)) < 1e-15_wp)
+  call check(abs(out(4)) < 1e-9_wp .and. abs(ydot(1)) < 1e-15_wp, 'starts relaxed')
 
   ! move the held body so the elongation is 0.02 m, damper undeflected
   body(1)%q0(1:2) = [0.3_wp, 0.4_wp] * (l0 + 0.02_wp) / 0.5_wp
@@ -57,9 +58,8 @@ program test_series_spring_damper
     err = max(err, abs(tension - k * 0.02_wp * exp(-t * k / c)) / (k * 0.02_wp))
   end do
   write (buf, '(a,es9.2,a,f6.3,a)') 'max relative error ', err, ' (tau = c/k = ', c / k, ' s)'
-  call check('relaxation T = k e exp(-t k/c)', ok .and. err < 1e-9_wp, trim(buf))
+  call check(ok .and. err < 1e-9_wp, 'relaxation T = k e exp(-t k/c)', detail=trim(buf))
   line = [0.6_wp, 0.8_wp, 0.0_wp]
-  call check('force along the line, pulling body 2 back', maxval(abs(out(7:9) + tension * line)) < 1e-9_wp)
-  if (failures > 0) error stop 1
-  print '(a)', 'test_series_spring_damper: all checks passed'
+  call check(maxval(abs(out(7:9) + tension * line)) < 1e-9_wp, 'force along the line, pulling body 2 back')
+  call test_summary('test_series_spring_damper')
 end program test_series_spring_damper

@@ -12,7 +12,8 @@ program test_torsion_spring_damper
   use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics
   use rd_force_element, only: element_result_t
   use rd_torsion_spring_damper, only: torsion_spring_damper_t, rotation_vector
-  use rd_test_support, only: canted_circle_t, check, failures
+  use rd_dynamics_test_support, only: canted_circle_t
+  use rd_test_support, only: check, test_summary
   implicit none
   type(torsion_spring_damper_t) :: ts
   type(body_kinematics_t) :: k1, k2
@@ -27,8 +28,8 @@ program test_torsion_spring_damper
   ang = norm2(v); ax = v / ang
   eye = 0; do i = 1, 3; eye(i, i) = 1; end do
   r = eye + sin(ang) * skew(ax) + (1 - cos(ang)) * matmul(skew(ax), skew(ax))
-  call check('rotation vector of exp(skew(v)) = v', maxval(abs(rotation_vector(r) - v)) < 1e-14_wp)
-  call check('rotation vector of I = 0', maxval(abs(rotation_vector(eye))) == 0)
+  call check(maxval(abs(rotation_vector(r) - v)) < 1e-14_wp, 'rotation vector of exp(skew(v)) = v')
+  call check(maxval(abs(rotation_vector(eye))) == 0, 'rotation vector of I = 0')
 
   ! 2. relative roll 0.05 rad; bodies in a canted curve frame, both yawed 0.2 and pitched 0.1
   circle%kappa = 1.0_wp / 300; circle%cant = -0.1_wp
@@ -51,10 +52,10 @@ program test_torsion_spring_damper
     call compute_body_kinematics(k2, tp, 0.0_wp, 0.0_wp, q2, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], .false.)
   end block
   call ts%evaluate(0.0_wp, k1, k2, xd, res, xd)
-  call check('deflection = relative roll', maxval(abs(res%deflection - [0.05_wp, 0.0_wp, 0.0_wp])) < 1e-13_wp)
+  call check(maxval(abs(res%deflection - [0.05_wp, 0.0_wp, 0.0_wp])) < 1e-13_wp, 'deflection = relative roll')
   expect = -2.0e6_wp * 0.05_wp * k1%rot(:, 1)
-  call check('moment on body 2 = -k alpha about body 1 x', maxval(abs(res%moment - expect)) < 1e-8_wp)
-  call check('pure couple (no force)', all(res%force == 0))
+  call check(maxval(abs(res%moment - expect)) < 1e-8_wp, 'moment on body 2 = -k alpha about body 1 x')
+  call check(all(res%force == 0), 'pure couple (no force)')
 
   ! 3. rates: body 2 rolls at 0.4 rad/s relative to body 1 (same angles): -c * 0.4
   call compute_body_kinematics(k2, tp, 0.0_wp, 0.0_wp, k1%q, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], .false.)
@@ -64,13 +65,12 @@ program test_torsion_spring_damper
     k2b%omega = k2%omega + 0.4_wp * k1%rot(:, 1)
     k2b%omega_attach = k2b%omega
     call ts%evaluate(0.0_wp, k1, k2b, xd, res, xd)
-    call check('damping moment -c rate', maxval(abs(res%moment + 1.0e4_wp * 0.4_wp * k1%rot(:, 1))) < 1e-9_wp)
+    call check(maxval(abs(res%moment + 1.0e4_wp * 0.4_wp * k1%rot(:, 1))) < 1e-9_wp, 'damping moment -c rate')
   end block
   call compute_body_kinematics(k1, tp, 30.0_wp, 0.0_wp, k1%q, [0.1_wp, 0.0_wp, 0.0_wp, 0.3_wp, -0.2_wp, 0.5_wp], .false.)
   call compute_body_kinematics(k2, tp, 30.0_wp, 0.0_wp, k1%q, [0.0_wp, 0.0_wp, 0.0_wp, 0.3_wp, -0.2_wp, 0.5_wp], .false.)
   call ts%evaluate(0.0_wp, k1, k2, xd, res, xd)
-  call check('common rotation: no moment', maxval(abs(res%moment)) < 1e-9_wp)
+  call check(maxval(abs(res%moment)) < 1e-9_wp, 'common rotation: no moment')
 
-  if (failures > 0) error stop 1
-  print '(a)', 'test_torsion_spring_damper: all checks passed'
+  call test_summary('test_torsion_spring_damper')
 end program test_torsion_spring_damper

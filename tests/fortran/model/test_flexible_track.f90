@@ -23,7 +23,7 @@
 program test_flexible_track
   use rd_kinds, only: wp, pi, standard_gravity
   use rd_error, only: error_t
-  use model_test_support, only: failures, check, stop_on
+  use rd_test_support, only: check, stop_on, test_summary
   use rd_scene, only: scene_t
   use rd_multibody, only: multibody_t
   use rd_body_spec, only: DOF_Y, DOF_Z
@@ -40,11 +40,7 @@ program test_flexible_track
   call test_lateral()
   call test_vertical_vibration()
   call test_deck_errors()
-  if (failures > 0) then
-    write (*, '(i0, a)') failures, ' check(s) failed'
-    error stop 1
-  end if
-  write (*, '(a)') 'all flexible-track checks passed'
+  call test_summary('test_flexible_track')
 
 contains
 

@@ -6,7 +6,7 @@
 program test_safety_maxima
   use rd_kinds, only: wp
   use rd_safety_maxima, only: centred_sliding_mean, median
-  use model_test_support, only: failures, check
+  use rd_test_support, only: check, test_summary
   use rd_text, only: sci_text
   implicit none
   integer, parameter :: n = 101
@@ -46,8 +46,7 @@ program test_safety_maxima
   call check(median([5.0_wp, 1.0_wp, 4.0_wp, 2.0_wp]) == 3, 'median even count: (2 + 4) / 2')
   call check(median([2.0_wp, 2.0_wp, 2.0_wp, 7.0_wp, 2.0_wp, 2.0_wp]) == 2, 'median with repeats')
   call random_medians()
-  if (failures > 0) error stop 1
-  print '(a)', 'test_safety_maxima: all checks passed'
+  call test_summary('test_safety_maxima')
 
 contains
 

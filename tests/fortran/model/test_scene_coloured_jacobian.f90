@@ -31,7 +31,7 @@
 program test_scene_coloured_jacobian
   use rd_kinds, only: wp
   use rd_error, only: error_t
-  use model_test_support, only: failures, check, stop_on
+  use rd_test_support, only: check, stop_on, test_summary
   use rd_scene, only: scene_t
   use rd_multibody, only: multibody_t
   use rd_scene_jacobian, only: body_coupling_t, multibody_coupling, distance2_colouring, &
@@ -58,11 +58,7 @@ program test_scene_coloured_jacobian
   rails_text = tgv_text // rail_bodies('ws1', 'w1') // rail_bodies('ws3', 'w3')
   call test_jacobian_against_dense(rails_text, 'TGV + rail bodies', 98)
   call test_runs_agree()
-  if (failures > 0) then
-    write (*, '(i0, a)') failures, ' check(s) failed'
-    error stop 1
-  end if
-  write (*, '(a)') 'all scene coloured-Jacobian checks passed'
+  call test_summary('test_scene_coloured_jacobian')
 
 contains
 

@@ -43,7 +43,7 @@
 program test_scene_static_equilibrium
   use rd_kinds, only: wp, standard_gravity
   use rd_error, only: error_t
-  use model_test_support, only: failures, check, stop_on
+  use rd_test_support, only: check, stop_on, test_summary
   use rd_scene, only: scene_t
   use rd_multibody, only: multibody_t
   use rd_speed_law, only: speed_law_t, constant_speed
@@ -61,11 +61,7 @@ program test_scene_static_equilibrium
   call test_curve_start()
   call test_tight_curve_start()
   call test_series_damper()
-  if (failures > 0) then
-    write (*, '(i0, a)') failures, ' check(s) failed'
-    error stop 1
-  end if
-  write (*, '(a)') 'all static-equilibrium checks passed'
+  call test_summary('test_scene_static_equilibrium')
 
 contains
 

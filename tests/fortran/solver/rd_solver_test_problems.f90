@@ -8,7 +8,7 @@ module rd_solver_test_problems
   implicit none
   private
   public :: oscillator_t, decay_t, stiff_cosine_t, stiff_pair_t, failing_t
-  public :: stiff_pair_jacobian, check, report
+  public :: stiff_pair_jacobian, report
   public :: FAIL_FATAL, FAIL_NAN, FAIL_RECOVERABLE_ALWAYS, FAIL_RECOVERABLE_FEW
 
   !> x'' = -omega^2 x as y = (x, v): x(t) = x0 cos(wt) + v0/w sin(wt).
@@ -221,16 +221,6 @@ contains
     class(failing_t), intent(in) :: self
     one_fail = 1
   end function one_fail
-
-  !> Fail the test program with a message when `condition` is false.
-  subroutine check(condition, message)
-    logical, intent(in) :: condition
-    character(len=*), intent(in) :: message
-    if (.not. condition) then
-      write (*, '(a)') 'FAILED: ' // message
-      error stop 1
-    end if
-  end subroutine check
 
   !> Print one measured figure (shown by ctest --output-on-failure / -V).
   subroutine report(label, value)

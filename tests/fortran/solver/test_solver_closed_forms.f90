@@ -8,7 +8,8 @@ program test_solver_closed_forms
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t
-  use rd_solver_test_problems, only: oscillator_t, decay_t, check, report
+  use rd_solver_test_problems, only: oscillator_t, decay_t, report
+  use rd_test_support, only: check, test_summary
   implicit none
 
   character(len=8), parameter :: methods(5) = [character(len=8) :: 'bdf', 'adams', 'erk', &
@@ -19,7 +20,7 @@ program test_solver_closed_forms
     call oscillator_case(trim(methods(m)))
     call decay_case(trim(methods(m)))
   end do
-  write (*, '(a)') 'test_solver_closed_forms: all passed'
+  call test_summary('test_solver_closed_forms')
 
 contains
 

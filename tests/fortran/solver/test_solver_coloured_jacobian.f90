@@ -19,22 +19,18 @@ program test_solver_coloured_jacobian
   use rd_rhs_context, only: rhs_context_t, RHS_OK
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t
   use rd_chain_test_problem, only: chain_t, chain_jacobian, spring, pos, m, n, k_cub, c_damp
+  use rd_test_support, only: check, test_summary
   implicit none
 
   type(chain_t), target :: chain
   type(jacobian_sparsity_t) :: sparsity
   type(error_t), allocatable :: error
-  integer :: failures = 0
 
   call build_chain_sparsity(sparsity)
   call test_refuses_overlap()
   call test_against_analytic()
   call test_integration()
-  if (failures > 0) then
-    write (*, '(i0, a)') failures, ' check(s) failed'
-    error stop 1
-  end if
-  write (*, '(a)') 'all coloured-Jacobian checks passed'
+  call test_summary('test_solver_coloured_jacobian')
 
 contains
 
@@ -182,12 +178,4 @@ contains
     call integ%destroy()
   end subroutine run
 
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (.not. ok) then
-      failures = failures + 1
-      write (*, '(a)') 'FAILED: ' // what
-    end if
-  end subroutine check
 end program test_solver_coloured_jacobian

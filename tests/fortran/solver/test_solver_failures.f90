@@ -6,8 +6,9 @@ program test_solver_failures
   use rd_kinds, only: wp
   use rd_error, only: error_t, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_PHYSICS, RD_ERR_HANDLE
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t
-  use rd_solver_test_problems, only: oscillator_t, failing_t, check, report, FAIL_FATAL, &
+  use rd_solver_test_problems, only: oscillator_t, failing_t, report, FAIL_FATAL, &
                                      FAIL_NAN, FAIL_RECOVERABLE_ALWAYS, FAIL_RECOVERABLE_FEW
+  use rd_test_support, only: check, test_summary
   implicit none
 
   character(len=8), parameter :: methods(4) = [character(len=8) :: 'bdf', 'adams', 'erk', 'rk4']
@@ -24,7 +25,7 @@ program test_solver_failures
   call recovered_rhs('adams')
   call bad_input()
   call limits_and_vector_tolerances()
-  write (*, '(a)') 'test_solver_failures: all passed'
+  call test_summary('test_solver_failures')
 
 contains
 

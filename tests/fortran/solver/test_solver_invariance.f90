@@ -9,7 +9,8 @@ program test_solver_invariance
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t
-  use rd_solver_test_problems, only: oscillator_t, decay_t, check, report
+  use rd_solver_test_problems, only: oscillator_t, decay_t, report
+  use rd_test_support, only: check, test_summary
   implicit none
 
   character(len=8), parameter :: methods(5) = [character(len=8) :: 'bdf', 'adams', 'erk', &
@@ -21,7 +22,7 @@ program test_solver_invariance
     call interleaved(trim(methods(m)))
     call restart(trim(methods(m)))
   end do
-  write (*, '(a)') 'test_solver_invariance: all passed'
+  call test_summary('test_solver_invariance')
 
 contains
 

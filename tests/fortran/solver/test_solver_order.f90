@@ -5,12 +5,13 @@ program test_solver_order
   use rd_kinds, only: wp
   use rd_error, only: error_t
   use rd_integrator, only: integrator_t, integrator_settings_t
-  use rd_solver_test_problems, only: oscillator_t, check, report
+  use rd_solver_test_problems, only: oscillator_t, report
+  use rd_test_support, only: check, test_summary
   implicit none
 
   call order_of('rk4', 16.0_wp)
   call order_of('heun', 4.0_wp)
-  write (*, '(a)') 'test_solver_order: all passed'
+  call test_summary('test_solver_order')
 
 contains
 

@@ -10,7 +10,8 @@ program test_solver_stiff
   use rd_error, only: error_t
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t
   use rd_solver_test_problems, only: stiff_cosine_t, stiff_pair_t, stiff_pair_jacobian, &
-                                     check, report
+                                     report
+  use rd_test_support, only: check, test_summary
   implicit none
 
   type(integrator_stats_t) :: bdf_stats, erk_stats, jac_stats, rk4_stats
@@ -66,7 +67,7 @@ program test_solver_stiff
   ! accuracy check above.
   call check(jac_stats%steps < 2 * bdf_stats%steps, &
              'bdf+jacobian: more than twice the steps of the DQ Jacobian run')
-  write (*, '(a)') 'test_solver_stiff: all passed'
+  call test_summary('test_solver_stiff')
 
 contains
 

@@ -9,7 +9,8 @@ program test_solver_stop_time
   use rd_kinds, only: wp, i8
   use rd_error, only: error_t
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t
-  use rd_solver_test_problems, only: oscillator_t, check, report
+  use rd_solver_test_problems, only: oscillator_t, report
+  use rd_test_support, only: check, test_summary
   implicit none
 
   character(len=8), parameter :: methods(3) = [character(len=8) :: 'bdf', 'adams', 'erk']
@@ -18,7 +19,7 @@ program test_solver_stop_time
   do m = 1, size(methods)
     call sampled_between_stops(trim(methods(m)))
   end do
-  write (*, '(a)') 'test_solver_stop_time: all passed'
+  call test_summary('test_solver_stop_time')
 
 contains
 

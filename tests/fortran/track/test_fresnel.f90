@@ -7,6 +7,7 @@ program test_fresnel
   use, intrinsic :: iso_fortran_env, only: real128
   use rd_kinds, only: wp
   use rd_fresnel, only: fresnel_integrals, fresnel_aux, fresnel_phase
+  use rd_test_support, only: fail, test_summary
   implicit none
   integer, parameter :: qp = real128
   integer, parameter :: n_ref = 10
@@ -23,9 +24,8 @@ program test_fresnel
   real(wp) :: c, s, c_minus, s_minus, worst, x, err
   real(qp) :: cq, sq
   complex(wp) :: f_from_aux
-  integer :: i, failures
+  integer :: i
 
-  failures = 0
   worst = 0
   do i = 1, n_ref
     call fresnel_integrals(xs(i), c, s)
@@ -33,13 +33,13 @@ program test_fresnel
     worst = max(worst, err)
     if (err > 1.0e-14_wp) then
       print '(a,f8.2,2(a,es24.16),a,es9.2)', 'FAIL x=', xs(i), ' C=', c, ' S=', s, ' rel err ', err
-      failures = failures + 1
+      call fail()
     end if
     ! odd symmetry C(-x) = -C(x), S(-x) = -S(x)
     call fresnel_integrals(-xs(i), c_minus, s_minus)
     if (c_minus /= -c .or. s_minus /= -s) then
       print '(a,f8.2)', 'FAIL: odd symmetry at x=', xs(i)
-      failures = failures + 1
+      call fail()
     end if
   end do
   print '(a,es9.2)', 'Fresnel vs mpmath (10 values, 0.1..1000): worst relative error ', worst
@@ -60,11 +60,10 @@ program test_fresnel
   print '(a,es9.2)', 'Fresnel vs real128 quadrature on [0, 8]: worst absolute error ', worst
   if (worst > 2.0e-15_wp) then
     print '(a)', 'FAIL: Fresnel integrals differ from the quadrature'
-    failures = failures + 1
+    call fail()
   end if
 
-  if (failures > 0) error stop 1
-  print '(a)', 'test_fresnel: all passed'
+  call test_summary('test_fresnel')
 
 contains
 

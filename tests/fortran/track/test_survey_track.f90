@@ -12,8 +12,8 @@ program test_survey_track
   use rd_track_point, only: track_point_t
   use rd_track, only: track_t, track_settings_t, segment_spec_t, build_track
   use rd_survey_track, only: survey_track_t, build_survey_track, read_survey_file
+  use rd_test_support, only: check, fail, test_summary
   implicit none
-  integer :: failures = 0
 
   call test_circle()
   call test_against_segment_track('thesis-like track (R 1000, 200 m clothoid)', 1000.0_wp, 200.0_wp, 0.05_wp)
@@ -21,23 +21,9 @@ program test_survey_track
   call test_reader()
   call test_build_errors()
 
-  if (failures > 0) then
-    print '(i0,a)', failures, ' check(s) failed'
-    error stop 1
-  end if
-  print '(a)', 'test_survey_track: all passed'
+  call test_summary('test_survey_track')
 
 contains
-
-  subroutine check(ok, what, value)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    real(wp), intent(in) :: value
-    if (.not. ok) then
-      failures = failures + 1
-      print '(a,a,es10.3)', 'FAIL: ', what, value
-    end if
-  end subroutine check
 
   !> The error exists, has the code and contains each fragment (up to three; separate
   !> arguments because gfortran 12 miscompiles typed array constructors of
@@ -48,13 +34,13 @@ contains
     character(len=*), intent(in) :: what, f1
     character(len=*), intent(in), optional :: f2, f3
     if (.not. allocated(error)) then
-      failures = failures + 1
+      call fail()
       print '(a)', 'FAIL: no error for ' // what
       return
     end if
     print '(a)', '  ' // what // ' -> ' // error%message
     if (error%code /= code) then
-      failures = failures + 1
+      call fail()
       print '(a)', 'FAIL: wrong error code for ' // what
     end if
     call check_fragment(error, what, f1)
@@ -66,7 +52,7 @@ contains
     type(error_t), intent(in) :: error
     character(len=*), intent(in) :: what, fragment
     if (index(error%message, fragment) == 0) then
-      failures = failures + 1
+      call fail()
       print '(a)', 'FAIL: message for ' // what // ' lacks "' // fragment // '"'
     end if
   end subroutine check_fragment
@@ -211,7 +197,7 @@ contains
                     '  10.0	0.05  1.51  -0.02', '15 0.11 1.52 -0.03'])
     call read_survey_file(trim(path), x, y, z, h, error)
     if (allocated(error)) then
-      failures = failures + 1
+      call fail()
       print '(a)', 'FAIL: reader: ' // error%message
     else
       call check(size(x) == 4, 'reader: number of points', real(size(x), wp))

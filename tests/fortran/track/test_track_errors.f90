@@ -6,8 +6,8 @@ program test_track_errors
   use rd_error, only: error_t, RD_ERR_INPUT
   use rd_track_point, only: track_point_t
   use rd_track, only: track_t, track_settings_t, segment_spec_t, build_track
+  use rd_test_support, only: fail, test_summary
   implicit none
-  integer :: failures = 0
   type(track_settings_t) :: settings
   type(segment_spec_t) :: s(3)
   real(wp) :: nan
@@ -89,11 +89,7 @@ program test_track_errors
   s(2) = seg('curve', 60.0_wp, 1 / 150.0_wp, 0.0_wp, '')
   call expect(settings, s(1:2), [character(len=60) :: 'segment 2 (curve)', 'curvature jumps'], 'no origin')
 
-  if (failures > 0) then
-    print '(i0,a)', failures, ' check(s) failed'
-    error stop 1
-  end if
-  print '(a)', 'test_track_errors: all passed'
+  call test_summary('test_track_errors')
 
 contains
 
@@ -110,7 +106,7 @@ contains
     settings%start_superelevation = 0.01_wp
     call build_track(track, settings, s(1:0), error)
     if (allocated(error)) then
-      failures = failures + 1
+      call fail()
       print '(a)', 'FAIL: no segments: ' // error%message
       return
     end if
@@ -121,7 +117,7 @@ contains
                   0.0_wp]))), abs(p%heading - 0.4_wp), abs(p%cant_angle - asin(0.01_wp / 1.5_wp)), abs(p%curvature))
     end do
     if (worst > 1.0e-13_wp) then
-      failures = failures + 1
+      call fail()
       print '(a,es10.3)', 'FAIL: no segments is not the straight through the start ', worst
     end if
   end subroutine no_segments_is_a_straight
@@ -146,23 +142,23 @@ contains
     integer :: k
     call build_track(track, settings, specs, error)
     if (.not. allocated(error)) then
-      failures = failures + 1
+      call fail()
       print '(a)', 'FAIL: no error for ' // what
       return
     end if
     print '(a)', what // ' -> ' // error%message
     if (error%code /= RD_ERR_INPUT) then
-      failures = failures + 1
+      call fail()
       print '(a)', 'FAIL: error code is not RD_ERR_INPUT for ' // what
     end if
     do k = 1, size(fragments)
       if (index(error%message, trim(fragments(k))) == 0) then
-        failures = failures + 1
+        call fail()
         print '(a)', 'FAIL: message for ' // what // ' lacks "' // trim(fragments(k)) // '"'
       end if
     end do
     if (index(error%message, trim(fragments(1))) /= 1) then
-      failures = failures + 1
+      call fail()
       print '(a)', 'FAIL: message for ' // what // ' does not start with its origin'
     end if
   end subroutine expect

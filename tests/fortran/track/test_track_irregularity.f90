@@ -9,8 +9,8 @@ program test_track_irregularity
   use test_files, only: scratch_name, write_file, delete_file
   use rd_error, only: error_t, RD_ERR_INPUT, RD_ERR_IO
   use rd_track_irregularity, only: track_irregularity_t, build_track_irregularity, read_irregularity_file
+  use rd_test_support, only: check, fail, test_summary
   implicit none
-  integer :: failures = 0
 
   call test_interpolation()
   call test_rail_offsets()
@@ -19,11 +19,7 @@ program test_track_irregularity
   call test_file_errors()
   call test_build_errors()
 
-  if (failures > 0) then
-    print '(a, i0, a)', 'test_track_irregularity: ', failures, ' failure(s)'
-    error stop 1
-  end if
-  print '(a)', 'test_track_irregularity: all passed'
+  call test_summary('test_track_irregularity')
 
 contains
 
@@ -212,24 +208,13 @@ contains
   end subroutine test_build_errors
 
   ! ------------------------------------------------------------------ helpers
-  subroutine check(ok, label, value)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: label
-    real(wp), intent(in) :: value
-    if (ok) then
-      print '(a, a, es10.3, a)', 'ok   ', label // ' (', value, ')'
-    else
-      print '(a, a, es10.3, a)', 'FAIL ', label // ' (', value, ')'
-      failures = failures + 1
-    end if
-  end subroutine check
 
   subroutine require_ok(error, label)
     type(error_t), allocatable, intent(in) :: error
     character(len=*), intent(in) :: label
     if (allocated(error)) then
       print '(a)', 'FAIL ' // label // ': ' // error%message
-      failures = failures + 1
+      call fail()
     end if
   end subroutine require_ok
 
@@ -241,7 +226,7 @@ contains
     logical :: ok
     if (.not. allocated(error)) then
       print '(a)', 'FAIL ' // label // ': no error'
-      failures = failures + 1
+      call fail()
       return
     end if
     ok = error%code == code .and. index(error%message, p1) > 0 .and. index(error%message, p2) > 0
@@ -252,7 +237,7 @@ contains
       print '(a)', 'ok   ' // label // ': ' // error%message
     else
       print '(a)', 'FAIL ' // label // ': ' // error%message
-      failures = failures + 1
+      call fail()
     end if
   end subroutine check_message
 end program test_track_irregularity

@@ -33,21 +33,17 @@ program test_track_irregularity_scene
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t
   use rd_scene, only: scene_t
+  use rd_test_support, only: check, stop_on, test_summary
   implicit none
   real(wp), parameter :: r0 = 0.45_wp, e0 = 0.75_wp, lam = 0.10033_wp, v = 10.0_wp
   real(wp), parameter :: amplitude = 2.0e-3_wp, wavelength = 200.0_wp, k_psi = 1.0e6_wp
-  integer :: failures = 0
   character(len=:), allocatable :: dir
 
   dir = scratch_dir()
   call random_seed()
   call test_alignment()
   call test_gauge()
-  if (failures > 0) then
-    write (*, '(i0, a)') failures, ' check(s) failed'
-    error stop 1
-  end if
-  write (*, '(a)') 'test_track_irregularity_scene: all passed'
+  call test_summary('test_track_irregularity_scene')
 
 contains
 
@@ -237,26 +233,6 @@ contains
     character(len=16) :: s
     write (s, '(f5.2, a)') 100 * x, ' %'
   end function percent
-
-  subroutine check(ok, what)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    if (ok) then
-      write (*, '(a)') 'ok    ' // what
-    else
-      write (*, '(a)') 'FAIL  ' // what
-      failures = failures + 1
-    end if
-  end subroutine check
-
-  subroutine stop_on(error, what)
-    type(error_t), allocatable, intent(in) :: error
-    character(len=*), intent(in) :: what
-    if (allocated(error)) then
-      write (*, '(a)') 'FAIL  ' // what // ': ' // error%message
-      error stop 1
-    end if
-  end subroutine stop_on
 
   !> A random tag: concurrent test runs (Release and Debug) must not share files.
   function tag() result(t)

@@ -13,9 +13,9 @@ program test_track_segments
   use rd_rotation, only: rot_x, rot_y, rot_z
   use rd_track_point, only: track_point_t
   use rd_track, only: track_t, track_settings_t, segment_spec_t, build_track
+  use rd_test_support, only: check, test_summary
   implicit none
   integer, parameter :: qp = real128
-  integer :: failures = 0
 
   call test_joint_continuity()
   call test_circle()
@@ -25,23 +25,9 @@ program test_track_segments
   call test_split()
   call test_vertical_profile_and_run_off()
 
-  if (failures > 0) then
-    print '(i0,a)', failures, ' check(s) failed'
-    error stop 1
-  end if
-  print '(a)', 'test_track_segments: all passed'
+  call test_summary('test_track_segments')
 
 contains
-
-  subroutine check(ok, what, value)
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: what
-    real(wp), intent(in) :: value
-    if (.not. ok) then
-      failures = failures + 1
-      print '(a,a,es10.3)', 'FAIL: ', what, value
-    end if
-  end subroutine check
 
   function seg(kind, length, curvature, superelevation, ramp, gradient) result(s)
     character(len=*), intent(in) :: kind

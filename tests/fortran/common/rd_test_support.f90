@@ -1,0 +1,100 @@
+!> The checks every Fortran test program uses: one failure counter per program, checks that
+!> print what failed, and a summary that sets the exit code (ctest reads it).
+!>
+!> A check prints `ok    what` or `FAIL  what` (with its measured value or detail, if given). A
+!> test calls `test_summary` last: it stops with exit code 1 if any check failed.
+module rd_test_support
+  use rd_kinds, only: wp
+  use rd_error, only: error_t
+  implicit none
+  private
+  public :: check, check_close, check_status, stop_on, fail, failure_count, test_summary
+
+  integer :: n_checks = 0
+  integer :: n_failures = 0
+
+contains
+
+  !> Pass if `ok`; `value` (a measured number) and `detail` (text) are printed with the result.
+  subroutine check(ok, what, value, detail)
+    logical, intent(in) :: ok
+    character(len=*), intent(in) :: what
+    real(wp), intent(in), optional :: value
+    character(len=*), intent(in), optional :: detail
+    character(len=32) :: number
+    character(len=:), allocatable :: line
+    n_checks = n_checks + 1
+    line = what
+    if (present(value)) then
+      write (number, '(es10.3)') value
+      line = line // ' (' // trim(adjustl(number)) // ')'
+    end if
+    if (present(detail)) line = line // '  ' // detail
+    if (ok) then
+      write (*, '(a)') 'ok    ' // line
+    else
+      n_failures = n_failures + 1
+      write (*, '(a)') 'FAIL  ' // line
+    end if
+  end subroutine check
+
+  !> Pass if `got` is within `rel_tol` of `expected` relative to `|expected|`; a NaN fails.
+  subroutine check_close(got, expected, rel_tol, what)
+    real(wp), intent(in) :: got, expected, rel_tol
+    character(len=*), intent(in) :: what
+    n_checks = n_checks + 1
+    if (.not. (abs(got - expected) <= rel_tol * abs(expected))) then
+      n_failures = n_failures + 1
+      write (*, '(a,es16.8,a,es16.8,a,es10.3,a,es9.2)') 'FAIL  ' // what // ': got ', got, &
+        ' expected ', expected, ' rel ', got / expected - 1, ' tol ', rel_tol
+    end if
+  end subroutine check_close
+
+  !> Pass if `error` is not allocated; otherwise print its message and clear it, so that the
+  !> test goes on with the next case.
+  subroutine check_status(error, what)
+    type(error_t), allocatable, intent(inout) :: error
+    character(len=*), intent(in) :: what
+    n_checks = n_checks + 1
+    if (allocated(error)) then
+      n_failures = n_failures + 1
+      write (*, '(a)') 'FAIL  ' // what // ': ' // error%message
+      deallocate (error)
+    end if
+  end subroutine check_status
+
+  !> Stop the test (exit code 1) with the error's message when `error` is allocated: for set-up
+  !> steps the rest of the test cannot go on without.
+  subroutine stop_on(error, what)
+    type(error_t), allocatable, intent(in) :: error
+    character(len=*), intent(in) :: what
+    if (allocated(error)) then
+      write (*, '(a)') 'FAIL  ' // what // ': ' // error%message
+      error stop 1
+    end if
+  end subroutine stop_on
+
+  !> Count one failed check: described by `what`, or printed by the caller (formatted numbers).
+  subroutine fail(what)
+    character(len=*), intent(in), optional :: what
+    n_checks = n_checks + 1
+    n_failures = n_failures + 1
+    if (present(what)) write (*, '(a)') 'FAIL  ' // what
+  end subroutine fail
+
+  !> Failed checks so far (for checks that summarise a group of checks).
+  integer function failure_count()
+    failure_count = n_failures
+  end function failure_count
+
+  !> Print the count of checks and failures; exit code 1 if any check failed.
+  subroutine test_summary(program_name)
+    character(len=*), intent(in) :: program_name
+    if (n_failures > 0) then
+      write (*, '(a,i0,a,i0,a)') program_name // ': ', n_failures, ' of ', n_checks, ' check(s) failed'
+      error stop 1
+    end if
+    write (*, '(a,i0,a)') program_name // ': all ', n_checks, ' checks passed'
+  end subroutine test_summary
+
+end module rd_test_support
