@@ -10,6 +10,9 @@
 !> the run: its results file is closed with `/meta status = 'failed: <message>'` here,
 !> for the runner and the C API alike, and later stepping calls are refused with that
 !> message; queries still answer with the last valid state.
+!> This file holds the type and its life cycle; submodules hold the rest, one concern each:
+!> rd_scene_output_table, rd_scene_startup, rd_scene_by_name, rd_scene_notes and
+!> rd_scene_check_report.
 module rd_scene
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -162,9 +165,7 @@ module rd_scene
     procedure, private :: write_record
     procedure, private :: check_values
     procedure, private :: note_sample
-    procedure, private :: contact_notes
     procedure, private :: register_outputs
-    procedure, private :: mbs_element_count
     procedure, private :: channel_written
   end type scene_t
 
@@ -174,6 +175,123 @@ module rd_scene
       class(scene_t), intent(inout) :: self
       character(len=:), allocatable :: text
     end function scene_check_report
+    !> After a failed run: stepping calls get the failure again (rd_scene_by_name).
+    module subroutine refuse_after_failure(self, error)
+      type(scene_t), intent(in) :: self
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine refuse_after_failure
+    ! rd_scene_output_table: the channels, filled and written
+    module subroutine register_outputs(self)
+      class(scene_t), intent(inout) :: self
+    end subroutine register_outputs
+    module subroutine state_layout(mbs, components, units)
+      type(multibody_t), intent(in) :: mbs
+      character(len=:), allocatable, intent(out) :: components, units
+    end subroutine state_layout
+    logical module function channel_written(self, i)
+      class(scene_t), intent(in) :: self
+      integer, intent(in) :: i
+    end function channel_written
+    module subroutine write_step(self, error)
+      class(scene_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine write_step
+    module subroutine write_record(self, values, error)
+      class(scene_t), intent(inout) :: self
+      real(wp), intent(in) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine write_record
+    module subroutine note_sample(self)
+      class(scene_t), intent(inout) :: self
+    end subroutine note_sample
+    module subroutine check_values(self, values, error)
+      class(scene_t), intent(in) :: self
+      real(wp), intent(in) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine check_values
+    module subroutine refresh_outputs(self)
+      class(scene_t), intent(inout) :: self
+    end subroutine refresh_outputs
+    ! rd_scene_startup: the mechanics built and started
+    module subroutine build_mechanics(self, error)
+      class(scene_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine build_mechanics
+    module subroutine start_mechanics(self, error)
+      class(scene_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine start_mechanics
+    ! rd_scene_by_name: state, outputs and inputs for the C API
+    module subroutine scene_get_state(self, y, error)
+      class(scene_t), intent(in) :: self
+      real(wp), intent(out) :: y(:)
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine scene_get_state
+    module subroutine scene_set_state(self, y, error)
+      class(scene_t), intent(inout) :: self
+      real(wp), intent(in) :: y(:)
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine scene_set_state
+    module subroutine scene_set_start(self, t, y, error)
+      class(scene_t), intent(inout) :: self
+      real(wp), intent(in) :: t
+      real(wp), intent(in) :: y(:)
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine scene_set_start
+    module subroutine scene_continue_from(self, path, error, row)
+      class(scene_t), intent(inout) :: self
+      character(len=*), intent(in) :: path
+      type(error_t), allocatable, intent(out) :: error
+      integer, intent(in), optional :: row
+    end subroutine scene_continue_from
+    pure integer module function scene_output_count(self)
+      class(scene_t), intent(in) :: self
+    end function scene_output_count
+    module subroutine scene_output_name(self, index, name, error)
+      class(scene_t), intent(in) :: self
+      integer, intent(in) :: index
+      character(len=:), allocatable, intent(out) :: name
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine scene_output_name
+    module subroutine scene_output_size(self, name, n, error)
+      class(scene_t), intent(in) :: self
+      character(len=*), intent(in) :: name
+      integer, intent(out) :: n
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine scene_output_size
+    module subroutine scene_get_output(self, name, values, error)
+      class(scene_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      real(wp), intent(out) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine scene_get_output
+    module subroutine scene_set_input(self, name, values, error)
+      class(scene_t), intent(inout) :: self
+      character(len=*), intent(in) :: name
+      real(wp), intent(in) :: values(:)
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine scene_set_input
+    ! rd_scene_notes: summary, completion line, run notes, warnings
+    module function scene_summary(self) result(text)
+      class(scene_t), intent(in) :: self
+      character(len=:), allocatable :: text
+    end function scene_summary
+    module function scene_completion_summary(self) result(text)
+      class(scene_t), intent(in) :: self
+      character(len=:), allocatable :: text
+    end function scene_completion_summary
+    module function scene_warnings(self) result(list)
+      class(scene_t), intent(in) :: self
+      type(deck_string_t), allocatable :: list(:)
+    end function scene_warnings
+    module function scene_run_notes(self) result(notes)
+      class(scene_t), intent(in) :: self
+      character(len=:), allocatable :: notes
+    end function scene_run_notes
+    module function scene_input_files(self) result(files)
+      class(scene_t), intent(in) :: self
+      type(deck_string_t), allocatable :: files(:)
+    end function scene_input_files
   end interface
 
 contains
@@ -292,210 +410,6 @@ contains
     end if
     scene = loaded
   end subroutine reset_to_loaded
-
-  subroutine register_outputs(self)
-    class(scene_t), intent(inout) :: self
-    integer :: k, id
-    character(len=16) :: tag
-    call self%outputs%clear()
-    call self%outputs%add('vehicle/speed', 1, 'm/s', 'running speed V', 'V', id)
-    call self%outputs%add('vehicle/distance', 1, 'm', &
-                          'arc length sigma of the vehicle reference point', 'sigma', id)
-    do k = 1, size(self%frame_offsets)
-      write (tag, '(i0)') k
-      associate (p => 'track/frames/' // trim(tag) // '/')
-        call self%outputs%add(p // 'sigma', 1, 'm', 'arc length of the track frame', 'sigma', id)
-        call self%outputs%add(p // 'position', 3, 'm', &
-                              'track frame origin in the fixed frame', 'X Y Z', id)
-        call self%outputs%add(p // 'angles', 3, 'rad', &
-                              'heading, pitch (-atan gradient) and cant angle of the track frame', &
-                              'heading pitch cant', id)
-        call self%outputs%add(p // 'curvature', 1, '1/m', &
-                              'horizontal curvature, > 0 for a left-hand curve', 'kappa', id)
-        call self%outputs%add(p // 'superelevation', 1, 'm', &
-                              'left rail over right rail', 'h', id)
-        call self%outputs%add(p // 'angular_velocity', 3, 'rad/s', &
-                              'angular velocity of the moving track frame, track components', &
-                              'wx wy wz', id)
-      end associate
-    end do
-    do k = 1, self%nbodies
-      associate (p => 'bodies/' // self%mbs%bodies(k)%name // '/')
-        call self%outputs%add(p // 'position_track', 6, 'm m m rad rad rad', &
-          'coordinates q relative to the track frame (wheelset pitch: spin deviation beta)', &
-          'x y z yaw roll pitch', id)
-        call self%outputs%add(p // 'velocity_track', 6, 'm/s m/s m/s rad/s rad/s rad/s', &
-          'dq/dt relative to the track frame', 'vx vy vz yaw_rate roll_rate pitch_rate', id)
-        call self%outputs%add(p // 'acceleration_track', 6, 'm/s^2 m/s^2 m/s^2 rad/s^2 rad/s^2 rad/s^2', &
-          'd2q/dt2 relative to the track frame', 'ax ay az yaw_acc roll_acc pitch_acc', id)
-        call self%outputs%add(p // 'position_fixed', 3, 'm', 'centre of mass, fixed frame', 'X Y Z', id)
-        call self%outputs%add(p // 'angles_fixed', 3, 'rad', &
-          'Z-X-Y angles of the body frame relative to the fixed frame', 'yaw roll pitch', id)
-        call self%outputs%add(p // 'velocity_fixed', 3, 'm/s', 'velocity of the centre of mass, fixed frame', &
-          'vX vY vZ', id)
-        call self%outputs%add(p // 'angular_velocity_fixed', 3, 'rad/s', 'angular velocity, fixed frame', &
-          'wX wY wZ', id)
-        call self%outputs%add(p // 'angular_velocity_body', 3, 'rad/s', 'angular velocity, body frame', &
-          'wx wy wz', id)
-        call self%outputs%add(p // 'acceleration_fixed', 3, 'm/s^2', &
-          'acceleration of the centre of mass, fixed frame', 'aX aY aZ', id)
-      end associate
-    end do
-    do k = 1, self%mbs_element_count()
-      associate (p => 'elements/' // self%mbs%elements(k)%e%name // '/')
-        call self%outputs%add(p // 'deflection', 3, 'm', &
-          'deflection in element axes (torsion: rad)', 'dx dy dz', id)
-        call self%outputs%add(p // 'force_element', 3, 'N', &
-          'force on body 2 in element axes (torsion: moment, N*m)', 'fx fy fz', id)
-        call self%outputs%add(p // 'force_fixed', 3, 'N', 'force on body 2, fixed frame', 'fX fY fZ', id)
-      end associate
-    end do
-    if (associated(self%contact)) then
-      do k = 1, size(self%wheelset_names)
-        associate (p => 'wheelsets/' // trim(self%wheelset_names(k)) // '/')
-          call self%outputs%add(p // 'summary', N_WHEELSET_CHANNELS, unit_tokens(wheelset_channel_units), &
-            'derailment quotient (max Y/Q of the wheels) and sum of the guiding forces Y', &
-            join(wheelset_channel_names), id)
-          call self%outputs%add(p // 'rail_offsets', 4, 'm', 'rails displaced by the track irregularities ' // &
-            'at the wheelset, track frame (zeros on the design track)', 'dy_left dz_left dy_right dz_right', id)
-          block
-            integer :: side, j
-            character(len=5), parameter :: sides(2) = ['left ', 'right']
-            character(len=8) :: tagj
-            do side = 1, 2
-              call self%outputs%add(p // trim(sides(side)) // '/wheel', N_WHEEL_CHANNELS, &
-                unit_tokens(wheel_channel_units), 'wheel: patches, force on the wheel in track ' // &
-                'components (longitudinal, Y, Q), Y/Q (> 0 towards flange climb), largest penetration', &
-                join(wheel_channel_names), id)
-              do j = 1, MAX_PATCHES
-                write (tagj, '(i0)') j
-                call self%outputs%add(p // trim(sides(side)) // '/patch' // trim(tagj), N_PATCH_CHANNELS, &
-                  unit_tokens(patch_channel_units), 'contact patch (zeros when absent): geometry, ' // &
-                  'normal force, creepages, creep forces on the wheel (contact frame)', &
-                  join(patch_channel_names), id)
-              end do
-            end do
-          end block
-        end associate
-      end do
-    end if
-    do k = 1, size(self%sensors)
-      associate (p => 'sensors/' // self%sensors(k)%name // '/', &
-                 on => ' of sensor ' // self%sensors(k)%name // ' (fixed to its body)')
-        call self%outputs%add(p // 'position_track', 3, 'm', 'position' // on // &
-          ' relative to its body''s track frame, track components', 'x y z', id)
-        call self%outputs%add(p // 'position_fixed', 3, 'm', 'position' // on // ', fixed frame', 'X Y Z', id)
-        call self%outputs%add(p // 'velocity_track', 3, 'm/s', 'absolute velocity' // on // &
-          ', track-frame components', 'vx vy vz', id)
-        call self%outputs%add(p // 'acceleration_track', 3, 'm/s^2', 'absolute acceleration' // on // &
-          ', track-frame components', 'ax ay az', id)
-        call self%outputs%add(p // 'velocity_body', 3, 'm/s', 'absolute velocity' // on // &
-          ', body-frame components', 'vx vy vz', id)
-        call self%outputs%add(p // 'acceleration_body', 3, 'm/s^2', 'absolute acceleration' // on // &
-          ', body-frame components', 'ax ay az', id)
-        call self%outputs%add(p // 'specific_force_body', 3, 'm/s^2', 'accelerometer reading' // on // &
-          ': acceleration minus gravity, body-frame components', 'fx fy fz', id)
-      end associate
-    end do
-    if (associated(self%mbs)) then
-      block
-        character(len=:), allocatable :: components, units
-        call state_layout(self%mbs, components, units)
-        call self%outputs%add('state/y', self%mbs%state_size(), units, 'integrator state y = [q_f; nu_f; ' // &
-          'x_el] (free coordinates, generalized velocities, element states: rd_multibody); ' // &
-          'raildyn run --restart continues from a row of it', components, id)
-      end block
-    end if
-  end subroutine register_outputs
-
-  !> Column names and SI unit tokens of the state vector, in rd_multibody's layout:
-  !> '<body>.<coordinate>' for q_f (a wheelset's pitch slot is its spin deviation beta),
-  !> '<body>.nu_<coordinate>' for nu_f, '<element>.x<k>' for the elements' internal states.
-  subroutine state_layout(mbs, components, units)
-    type(multibody_t), intent(in) :: mbs
-    character(len=:), allocatable, intent(out) :: components, units
-    character(len=5), parameter :: dof_names(6) = ['x    ', 'y    ', 'z    ', 'yaw  ', 'roll ', 'pitch']
-    character(len=5), parameter :: dof_units(6) = ['m    ', 'm    ', 'm    ', 'rad  ', 'rad  ', 'rad  ']
-    character(len=5), parameter :: rate_units(6) = ['m/s  ', 'm/s  ', 'm/s  ', 'rad/s', 'rad/s', 'rad/s']
-    character(len=:), allocatable :: q_names, q_units, nu_names, nu_units
-    character(len=16), allocatable :: el_units(:)
-    integer :: i, j, k
-    q_names = ''; q_units = ''; nu_names = ''; nu_units = ''
-    do i = 1, mbs%body_count()
-      do j = 1, 6
-        if (mbs%free_slot(i, j) == 0) cycle
-        q_names = q_names // ' ' // mbs%bodies(i)%name // '.' // trim(dof_names(j))
-        q_units = q_units // ' ' // trim(dof_units(j))
-        nu_names = nu_names // ' ' // mbs%bodies(i)%name // '.nu_' // trim(dof_names(j))
-        nu_units = nu_units // ' ' // trim(rate_units(j))
-      end do
-    end do
-    components = q_names // nu_names
-    units = q_units // nu_units
-    do i = 1, mbs%element_count()
-      if (allocated(el_units)) deallocate (el_units)
-      allocate (el_units(mbs%elements(i)%e%state_count()))
-      call mbs%elements(i)%e%state_units(el_units)
-      do k = 1, size(el_units)
-        components = components // ' ' // mbs%elements(i)%e%name // '.x' // trim(int_text(k))
-        units = units // ' ' // trim(el_units(k))
-      end do
-    end do
-    components = components(2:)
-    units = units(2:)
-  end subroutine state_layout
-
-  !> The &output groups entry a channel belongs to: its first path element, except the
-  !> contact patch slots ('patches') under 'wheelsets'.
-  pure function channel_group(name) result(group)
-    character(len=*), intent(in) :: name
-    character(len=:), allocatable :: group
-    group = name(1:index(name // '/', '/') - 1)
-    if (group == 'wheelsets' .and. index(name, '/patch', back=.true.) > 0) group = 'patches'
-  end function channel_group
-
-  !> The channel is written to the results file (&output groups).
-  logical function channel_written(self, i)
-    class(scene_t), intent(in) :: self
-    integer, intent(in) :: i
-    integer :: g
-    channel_written = .false.
-    do g = 1, size(self%written_groups)
-      if (self%written_groups(g)%s == channel_group(self%outputs%channels(i)%name)) channel_written = .true.
-    end do
-  end function channel_written
-
-  !> Space-separated unit tokens (docs/output.md: no spaces inside a token, '1' for none).
-  pure function unit_tokens(units) result(text)
-    character(len=*), intent(in) :: units(:)
-    character(len=:), allocatable :: text
-    integer :: i
-    character(len=:), allocatable :: u
-    text = ''
-    do i = 1, size(units)
-      u = trim(units(i))
-      if (u == '-' .or. u == '') u = '1'
-      if (u == 'N m') u = 'N*m'
-      if (i > 1) text = text // ' '
-      text = text // u
-    end do
-  end function unit_tokens
-
-  pure function join(words) result(text)
-    character(len=*), intent(in) :: words(:)
-    character(len=:), allocatable :: text
-    integer :: i
-    text = trim(words(1))
-    do i = 2, size(words)
-      text = text // ' ' // trim(words(i))
-    end do
-  end function join
-
-  pure integer function mbs_element_count(self)
-    class(scene_t), intent(in) :: self
-    mbs_element_count = 0
-    if (associated(self%mbs)) mbs_element_count = self%mbs%element_count()
-  end function mbs_element_count
 
   ! ------------------------------------------------------------------ running
   subroutine scene_initialize(self, write_output, error)
@@ -626,15 +540,6 @@ contains
       '; the results file could not record this failure: ' // close_error%message
   end subroutine record_failure_in_results
 
-  !> After a failed run: stepping calls get the failure again, with what to do.
-  subroutine refuse_after_failure(self, error)
-    type(scene_t), intent(in) :: self
-    type(error_t), allocatable, intent(out) :: error
-    if (.not. allocated(self%failure)) return
-    call make_error(error, RD_ERR_HANDLE, 'scene: the run failed at t = ' // trim(real_text(self%t)) // &
-                    ' s (' // self%failure // '); the results file records the failure and the ' // &
-                    'run cannot go on: create a new model to run again')
-  end subroutine refuse_after_failure
 
   !> Advance to t_target, writing every output step passed on the way.
   subroutine scene_advance(self, t_target, error)
@@ -718,430 +623,12 @@ contains
     end subroutine integrate_to
   end subroutine step_to
 
-  !> Record the state at the current time.
-  subroutine write_step(self, error)
-    class(scene_t), intent(inout) :: self
-    type(error_t), allocatable, intent(out) :: error
-    call self%refresh_outputs()
-    call self%note_sample()
-    call self%write_record(self%outputs%packed(), error)
-  end subroutine write_step
-
-  !> Write one record at the current time: the channels' values packed as
-  !> rd_output_set%packed (the state, or an interval mean).
-  subroutine write_record(self, values, error)
-    class(scene_t), intent(inout) :: self
-    real(wp), intent(in) :: values(:)
-    type(error_t), allocatable, intent(out) :: error
-    integer :: i, k, n
-    if (self%writing) then
-      call self%check_values(values, error)
-      if (allocated(error)) return
-      k = 0
-      do i = 1, self%outputs%n
-        n = size(self%outputs%channels(i)%values)
-        if (self%series(i) > 0) call self%writer%set(self%series(i), values(k + 1:k + n), error)
-        if (allocated(error)) return
-        k = k + n
-      end do
-      call self%writer%end_step(self%t, error)
-      if (allocated(error)) return
-    end if
-    call self%safety%add_record(values)
-    self%output_steps = self%output_steps + 1
-  end subroutine write_record
-
-  !> Count the sample just refreshed into the run's statistics: bodies' distance from their
-  !> track frames (rd_frame_drift), wheels without any contact patch, largest vertical
-  !> wheel force.
-  subroutine note_sample(self)
-    class(scene_t), intent(inout) :: self
-    integer :: w, side
-    if (allocated(self%y)) call self%drift%note(self%y)
-    if (.not. associated(self%contact)) return
-    self%contact_samples = self%contact_samples + 1
-    do w = 1, size(self%wheelset_names)
-      do side = 1, 2
-        associate (wheel => self%contact%results(w)%wheel(side))
-          if (wheel%n_patches == 0) self%samples_without_contact(side, w) = self%samples_without_contact(side, w) + 1
-          self%max_sampled_q(side, w) = max(self%max_sampled_q(side, w), wheel%force_track(3))
-        end associate
-      end do
-    end do
-  end subroutine note_sample
-
-  !> Error naming the first channel of the packed values that holds a non-finite number.
-  subroutine check_values(self, values, error)
-    class(scene_t), intent(in) :: self
-    real(wp), intent(in) :: values(:)
-    type(error_t), allocatable, intent(out) :: error
-    integer :: i, k, n
-    k = 0
-    do i = 1, self%outputs%n
-      n = size(self%outputs%channels(i)%values)
-      if (.not. all(ieee_is_finite(values(k + 1:k + n)))) then
-        call make_error(error, RD_ERR_RUNTIME, 'non-finite value in output ' // &
-                        self%outputs%channels(i)%name // ' at t = ' // trim(real_text(self%t)))
-        return
-      end if
-      k = k + n
-    end do
-  end subroutine check_values
-
   pure function scene_vehicle_sigma(self, t) result(sigma)
     class(scene_t), intent(in) :: self
     real(wp), intent(in) :: t
     real(wp) :: sigma
     sigma = self%start_sigma + self%speed%distance(t)
   end function scene_vehicle_sigma
-
-  subroutine refresh_outputs(self)
-    class(scene_t), intent(inout) :: self
-    integer :: k, j
-    real(wp) :: v, sigma
-    type(track_point_t) :: p
-    v = self%speed%speed(self%t)
-    sigma = self%vehicle_sigma(self%t)
-    j = 1
-    self%outputs%channels(j)%values(1) = v; j = j + 1
-    self%outputs%channels(j)%values(1) = sigma; j = j + 1
-    do k = 1, size(self%frame_offsets)
-      p = self%track%evaluate(sigma + self%frame_offsets(k))
-      self%outputs%channels(j)%values(1) = p%sigma; j = j + 1
-      self%outputs%channels(j)%values = p%r; j = j + 1
-      self%outputs%channels(j)%values = [p%heading, p%grade_angle, p%cant_angle]; j = j + 1
-      self%outputs%channels(j)%values(1) = p%curvature; j = j + 1
-      self%outputs%channels(j)%values(1) = p%superelevation; j = j + 1
-      self%outputs%channels(j)%values = v * p%omega; j = j + 1
-    end do
-    if (self%nbodies == 0) return
-    block
-      real(wp) :: rel(BODY_OUT_RELATIVE), fix(BODY_OUT_FIXED), el(ELEMENT_OUT)
-      real(wp), allocatable :: ydot(:)
-      type(error_t), allocatable :: error
-      logical :: recoverable
-      integer :: i
-      ! One RHS evaluation at the output state refreshes kinematics, accelerations and
-      ! element forces (the integrator's last evaluation may be at another state).
-      allocate (ydot(size(self%y)))
-      call self%mbs%rhs(self%t, self%y, ydot, error, recoverable)
-      do i = 1, self%nbodies
-        call self%mbs%body_output_relative(i, rel)
-        call self%mbs%body_output_fixed(i, fix)
-        if (self%mbs%bodies(i)%is_wheelset) then
-          ! docs/conventions.md: a wheelset's pitch output is the spin deviation from
-          ! nominal rolling, beta = theta - s(t)/r0 (and its rates), not the spin angle.
-          associate (r0 => self%mbs%bodies(i)%r0)
-            rel(6) = rel(6) - self%mbs%speed%distance(self%t) / r0
-            rel(12) = rel(12) - self%mbs%speed%speed(self%t) / r0
-            rel(18) = rel(18) - self%mbs%speed%acceleration(self%t) / r0
-          end associate
-        end if
-        self%outputs%channels(j)%values = rel(1:6); j = j + 1
-        self%outputs%channels(j)%values = rel(7:12); j = j + 1
-        self%outputs%channels(j)%values = rel(13:18); j = j + 1
-        self%outputs%channels(j)%values = fix(1:3); j = j + 1
-        self%outputs%channels(j)%values = fix(4:6); j = j + 1
-        self%outputs%channels(j)%values = fix(7:9); j = j + 1
-        self%outputs%channels(j)%values = fix(10:12); j = j + 1
-        self%outputs%channels(j)%values = fix(13:15); j = j + 1
-        self%outputs%channels(j)%values = fix(16:18); j = j + 1
-      end do
-      do i = 1, self%mbs%element_count()
-        call self%mbs%element_output(i, el)
-        self%outputs%channels(j)%values = el(1:3); j = j + 1
-        self%outputs%channels(j)%values = el(4:6); j = j + 1
-        self%outputs%channels(j)%values = el(7:9); j = j + 1
-      end do
-      if (associated(self%contact)) then
-        block
-          integer :: w, side, k
-          do w = 1, size(self%wheelset_names)
-            associate (res => self%contact%results(w))
-              call wheelset_channel_values(res, self%outputs%channels(j)%values); j = j + 1
-              self%outputs%channels(j)%values = self%contact%rail_offsets(:, w); j = j + 1
-              do side = 1, 2
-                call wheel_channel_values(res%wheel(side), self%outputs%channels(j)%values); j = j + 1
-                do k = 1, MAX_PATCHES
-                  call patch_channel_values(res%wheel(side), k, self%outputs%channels(j)%values); j = j + 1
-                end do
-              end do
-            end associate
-          end do
-        end block
-      end if
-      ! sensors after the contact: their channels were registered before the state's
-      block
-        type(point_motion_t) :: m
-        integer :: s
-        do s = 1, size(self%sensors)
-          m = compute_point_motion(self%mbs%kin(self%sensors(s)%body), self%sensors(s)%position, &
-                                   self%mbs%gravity)
-          self%outputs%channels(j)%values = m%position_track; j = j + 1
-          self%outputs%channels(j)%values = m%position_fixed; j = j + 1
-          self%outputs%channels(j)%values = m%velocity_track; j = j + 1
-          self%outputs%channels(j)%values = m%acceleration_track; j = j + 1
-          self%outputs%channels(j)%values = m%velocity_body; j = j + 1
-          self%outputs%channels(j)%values = m%acceleration_body; j = j + 1
-          self%outputs%channels(j)%values = m%specific_force_body; j = j + 1
-        end do
-      end block
-      self%outputs%channels(j)%values = self%y; j = j + 1
-    end block
-  end subroutine refresh_outputs
-
-  ! ------------------------------------------------------------------ mechanics
-  !> Bodies, frames, elements and loads from the deck (no state yet).
-  subroutine build_mechanics(self, error)
-    class(scene_t), intent(inout) :: self
-    type(error_t), allocatable, intent(out) :: error
-    type(body_spec_t), allocatable :: bodies(:)
-    class(force_element_t), allocatable :: element
-    class(force_provider_t), pointer :: provider
-    real(wp) :: gravity
-    integer :: i
-    character(len=:), allocatable :: method
-
-    call build_bodies(self%deck, bodies, self%frame_offsets, error)
-    if (allocated(error)) return
-    self%warning_list = self%deck%notes()
-    call check_body_inertia(self%deck, bodies, self%warning_list, error)
-    if (allocated(error)) return
-    call check_rail_bodies(self%deck, bodies, self%frame_offsets, error)
-    if (allocated(error)) return
-    ! the contact first: a wheelset's reference rolling radius comes from its geometry
-    if (self%deck%count('wheelset') > 0) then
-      call build_contact(self, error)
-      if (allocated(error)) return
-      call set_reference_radii(self, bodies, error)
-      if (allocated(error)) return
-    end if
-    call self%deck%get('simulation', 1, 'gravity', gravity, error); if (allocated(error)) return
-    allocate (self%mbs)
-    call self%mbs%init(bodies, self%frame_offsets, self%track, self%speed, error, &
-                       sigma0=self%start_sigma, gravity=gravity)
-    if (allocated(error)) return
-    do i = 1, self%deck%count('element')
-      call build_element(self%deck, i, element, error)
-      if (allocated(error)) return
-      call self%mbs%add_element(element, error)
-      if (allocated(error)) then
-        call error_context(error, self%deck%origin('element', i))
-        return
-      end if
-    end do
-    call stiffness_warnings(self%deck, bodies, self%warning_list)
-    allocate (self%loads)
-    call build_external_loads(self%deck, self%loads, error)
-    if (allocated(error)) return
-    provider => self%loads
-    call self%mbs%add_provider(provider)
-    if (associated(self%contact)) then
-      provider => self%contact
-      call self%mbs%add_provider(provider)
-    end if
-
-    call self%deck%get('simulation', 1, 'equilibrium', self%equilibrium, error); if (allocated(error)) return
-    call self%deck%get('solver', 1, 'method', method, error); if (allocated(error)) return
-    self%solver%method = method
-    call self%deck%get('solver', 1, 'rtol', self%solver%rtol, error); if (allocated(error)) return
-    call self%deck%get('solver', 1, 'atol', self%solver%atol, error); if (allocated(error)) return
-    call self%deck%get('solver', 1, 'max_step', self%solver%max_step, error); if (allocated(error)) return
-    call self%deck%get('solver', 1, 'min_step', self%solver%min_step, error); if (allocated(error)) return
-    call self%deck%get('solver', 1, 'initial_step', self%solver%initial_step, error); if (allocated(error)) return
-    call self%deck%get('solver', 1, 'max_num_steps', self%solver%max_num_steps, error); if (allocated(error)) return
-    call self%deck%get('solver', 1, 'fixed_step', self%solver%fixed_step, error); if (allocated(error)) return
-    call self%deck%get('solver', 1, 'max_order', self%solver%max_order, error); if (allocated(error)) return
-    call self%deck%get('solver', 1, 'jacobian', self%jacobian, error); if (allocated(error)) return
-  end subroutine build_mechanics
-
-  !> The wheel-rail contact of every &wheelset (profiles, geometry, Hertz, creep law,
-  !> irregularities).
-  subroutine build_contact(self, error)
-    class(scene_t), intent(inout) :: self
-    type(error_t), allocatable, intent(out) :: error
-    type(wheelset_contact_spec_t), allocatable :: specs(:)
-    type(track_irregularity_t), allocatable :: irregularity
-    character(len=:), allocatable :: name
-    character(len=512), allocatable :: labels(:)
-    integer :: i
-    call build_wheelset_specs(self%deck, specs, error)
-    if (allocated(error)) return
-    ! profile files read here, so that their errors name the deck line and the wheelset
-    call load_wheelset_profiles(self%deck, specs, error)
-    if (allocated(error)) return
-    allocate (labels(size(specs)))
-    do i = 1, size(specs)
-      labels(i) = self%deck%origin('wheelset', i)
-    end do
-    allocate (self%contact)
-    call self%contact%init(specs, self%nbodies, error, labels)
-    if (allocated(error)) then
-      ! wheel and rail that do not overlap: the values that place them may come from other
-      ! lines (or files) than the &wheelset's own, so name where each one was given
-      if (index(error%message, 'overlap laterally') > 0) then
-        do i = 1, size(specs)
-          if (index(error%message, trim(labels(i))) /= 1) cycle
-          error%message = error%message // '; values used: ' // &
-            self%deck%origin('wheelset', i, 'back_to_back') // ', ' // &
-            self%deck%origin('wheelset', i, 'flange_back') // ', ' // self%deck%origin('track', 1, 'gauge')
-          exit
-        end do
-      end if
-      return
-    end if
-    ! track irregularities displace the rails under every wheelset (rd_track_irregularity)
-    call build_scene_irregularity(self%deck, irregularity, error)
-    if (allocated(error)) return
-    if (allocated(irregularity)) call self%contact%set_irregularity(irregularity)
-    allocate (self%wheelset_names(size(specs)))
-    do i = 1, size(specs)
-      call self%deck%get('wheelset', i, 'name', name, error); if (allocated(error)) return
-      self%wheelset_names(i) = name
-    end do
-  end subroutine build_contact
-
-  !> Each wheelset body's reference rolling radius r0 (nominal spin V / r0): &wheelset
-  !> reference_radius when given, else computed from its contact geometry
-  !> (rd_reference_radius: the centred rolling radius of the profiles; knife edge:
-  !> nominal_radius).
-  subroutine set_reference_radii(self, bodies, error)
-    class(scene_t), intent(in) :: self
-    type(body_spec_t), intent(inout) :: bodies(:)
-    type(error_t), allocatable, intent(out) :: error
-    character(len=:), allocatable :: reason
-    integer :: w
-    do w = 1, size(self%contact%models)
-      associate (r0 => bodies(self%contact%models(w)%body)%r0)
-        if (self%deck%given('wheelset', w, 'reference_radius')) then
-          call self%deck%get('wheelset', w, 'reference_radius', r0, error)
-        else
-          call centred_rolling_radius(self%contact%models(w)%geo, r0, error)
-          if (allocated(error)) then
-            reason = error%message     ! (make_error deallocates error first)
-            call make_error(error, RD_ERR_INPUT, self%deck%origin('wheelset', w, 'reference_radius') // &
-              ': not given, and the centred rolling radius of the profiles failed (' // reason // &
-              '); expected profiles on which the centred wheelset touches both rails, or ' // &
-              'reference_radius in (0.2, 0.7) m')
-          end if
-        end if
-      end associate
-      if (allocated(error)) return
-    end do
-  end subroutine set_reference_radii
-
-  !> Initial state: elements at their nominal length in the initial configuration,
-  !> preloads for static equilibrium (thesis 5.2.1 d), then the integrator.
-  subroutine start_mechanics(self, error)
-    class(scene_t), intent(inout) :: self
-    type(error_t), allocatable, intent(out) :: error
-    logical :: supported(self%nbodies), held(6, self%nbodies)
-    integer :: w
-    allocate (self%y(self%mbs%state_size()))
-    call self%mbs%initial_state(self%y, error)
-    if (allocated(error)) return
-    ! With a static position solve to follow, the vehicle is built on level straight track
-    ! (free lengths and preloads), so that a start inside a curve does not build the curve's
-    ! offsets between the body frames into the springs; the solve then deflects them.
-    ! Without one ('none', or preloads alone for a scene without wheel-rail contact) the
-    ! initial configuration stays the unstressed one.
-    call nominal_lengths_from_initial_configuration(self%mbs, self%y, on_level_track= &
-      self%equilibrium == 'solve' .or. (self%equilibrium == 'preload' .and. associated(self%contact)))
-    ! the elements' internal states again, from the final free lengths: a series damper's
-    ! initial elongation was taken with the deck's free length (0), i.e. x_d = |p2 - p1|,
-    ! which would start it with a tension k |p2 - p1| instead of relaxed
-    call self%mbs%initial_state(self%y, error)
-    if (allocated(error)) return
-    self%y_as_built = self%y     ! what the equilibrium moves is reported (check_report)
-    ! Bodies in wheel-rail contact: at V = 0 no creep force holds them laterally nor on
-    ! their spin, so the static solve holds their lateral position and spin
-    ! (rd_static_preload, module header)
-    supported = .false.
-    held = .false.
-    if (associated(self%contact)) then
-      do w = 1, size(self%contact%models)
-        supported(self%contact%models(w)%body) = .true.
-        held([DOF_Y, DOF_PITCH], self%contact%models(w)%body) = .true.
-      end do
-    end if
-    select case (self%equilibrium)
-    case ('preload')
-      if (associated(self%contact)) then
-        ! Thesis 5.2.1 d: suspension preloads carry the bodies above the wheelsets (found on
-        ! level track: they belong to the vehicle, not to the cant where it starts); the
-        ! wheelsets are carried by the rails, so their equations are left to a static
-        ! position solve (contact penetration, suspension settling, lean in the cant) that
-        ! follows.
-        call solve_static_preloads(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, &
-                                   supported=supported, level_track=.true.)
-        if (.not. allocated(error)) &
-          call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, &
-                                      held=held)
-      else
-        call solve_static_preloads(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error)
-      end if
-    case ('solve')
-      call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, held=held)
-    end select
-    if (allocated(error)) then
-      call error_context(error, self%deck%origin('simulation', 1, 'equilibrium'))
-      return
-    end if
-    allocate (self%integrator)
-    if (self%solver%method == 'bdf' .and. self%jacobian == 'coloured') then
-      ! Bodies that share no force are perturbed in the same RHS call (rd_scene_jacobian);
-      ! a provider without stated coupling keeps CVODE's dense difference quotients.
-      block
-        type(jacobian_sparsity_t) :: sparsity
-        character(len=:), allocatable :: dense_reason
-        call scene_jacobian_sparsity(self%mbs, sparsity, dense_reason, error)
-        if (allocated(error)) return
-        if (allocated(dense_reason)) then
-          call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error)
-        else
-          call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error, &
-                                    jacobian_sparsity=sparsity)
-        end if
-      end block
-    else
-      call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error)
-    end if
-    if (allocated(error)) call error_context(error, self%deck%origin('solver', 1))
-  end subroutine start_mechanics
-
-  !> Point-to-point elements are unstressed (apart from their preload) in the initial
-  !> configuration: their free length is the separation of the attachment points there.
-  !> `on_level_track`: the bodies at their initial coordinates relative to frames on
-  !> straight level track (rd_static_preload), i.e. the vehicle as built.
-  subroutine nominal_lengths_from_initial_configuration(mbs, y, on_level_track)
-    type(multibody_t), intent(inout) :: mbs
-    real(wp), intent(in) :: y(:)
-    logical, intent(in) :: on_level_track
-    real(wp), allocatable :: ydot(:)
-    type(error_t), allocatable :: error
-    logical :: recoverable
-    integer :: e
-    type(level_straight_track_t), target :: level
-    class(track_geometry_t), pointer :: actual
-    allocate (ydot(size(y)))
-    actual => mbs%track
-    if (on_level_track) mbs%track => level
-    ! the deck's configuration as it stands: quasi-static wheelsets are not moved to their balance
-    mbs%hold_quasi_static = .true.
-    call mbs%rhs(0.0_wp, y, ydot, error, recoverable)
-    mbs%hold_quasi_static = .false.
-    mbs%track => actual
-    do e = 1, mbs%element_count()
-      select type (el => mbs%elements(e)%e)
-      type is (linear_spring_damper_t)
-        el%free_length = el%free_length + mbs%el_res(e)%deflection
-      type is (nonlinear_spring_t)
-        el%free_length = el%free_length + mbs%el_res(e)%deflection
-      type is (series_spring_damper_t)
-        el%free_length = el%free_length + mbs%el_res(e)%deflection(1)
-      end select
-    end do
-  end subroutine nominal_lengths_from_initial_configuration
 
   !> Free what the pointers own (the C API calls this before deallocating the model).
   subroutine scene_destroy(self)
@@ -1262,292 +749,6 @@ contains
     if (allocated(self%y)) scene_state_size = size(self%y)
   end function scene_state_size
 
-  subroutine scene_get_state(self, y, error)
-    class(scene_t), intent(in) :: self
-    real(wp), intent(out) :: y(:)
-    type(error_t), allocatable, intent(out) :: error
-    if (size(y) /= self%state_size()) then
-      call make_error(error, RD_ERR_INPUT, 'get_state: the array has ' // trim(int_text(size(y))) // &
-                      ' elements; expected the state size ' // trim(int_text(self%state_size())))
-      return
-    end if
-    if (allocated(self%y)) y = self%y
-  end subroutine scene_get_state
-
-  !> Replace the state at the current time (after initialize; the integrator restarts its
-  !> history there). y in the layout of rd_multibody (state/y, docs/output.md).
-  subroutine scene_set_state(self, y, error)
-    class(scene_t), intent(inout) :: self
-    real(wp), intent(in) :: y(:)
-    type(error_t), allocatable, intent(out) :: error
-    call refuse_after_failure(self, error)
-    if (allocated(error)) return
-    if (.not. self%initialized) then
-      call make_error(error, RD_ERR_HANDLE, 'set_state before initialize (set_start gives a ' // &
-                      'state to start from)')
-      return
-    end if
-    call check_state(self, y, 'set_state', error)
-    if (allocated(error)) return
-    self%y = y
-    call self%integrator%reinit(self%t, self%y, error)
-  end subroutine scene_set_state
-
-  !> Start the run at time t [s] from state y instead of the deck's initial state (a
-  !> restart; before initialize). The first output row is (t, y).
-  subroutine scene_set_start(self, t, y, error)
-    class(scene_t), intent(inout) :: self
-    real(wp), intent(in) :: t
-    real(wp), intent(in) :: y(:)
-    type(error_t), allocatable, intent(out) :: error
-    if (self%initialized) then
-      call make_error(error, RD_ERR_HANDLE, 'set_start after initialize (set_state replaces ' // &
-                      'the state at the current time)')
-      return
-    end if
-    call self%build(error)
-    if (allocated(error)) return
-    if (.not. (ieee_is_finite(t) .and. t >= 0)) then
-      call make_error(error, RD_ERR_INPUT, 'set_start: the time must be finite and >= 0 [s]')
-      return
-    end if
-    call check_state(self, y, 'set_start', error)
-    if (allocated(error)) return
-    self%start_time = t
-    self%start_state = y
-  end subroutine scene_set_start
-
-  !> A restart from the last complete row of a results file's /state/y (rd_results_state),
-  !> or from row `row` (counted from 0; raildyn eigen --state FILE:ROW): the deck must
-  !> describe the same state (the column names, i.e. bodies, their free coordinates and the
-  !> elements' states, must agree) and the file's rows must be states, not interval means.
-  subroutine scene_continue_from(self, path, error, row)
-    class(scene_t), intent(inout) :: self
-    character(len=*), intent(in) :: path
-    type(error_t), allocatable, intent(out) :: error
-    integer, intent(in), optional :: row
-    type(results_state_t) :: saved
-    integer :: id, row_wanted
-    call self%build(error)
-    if (allocated(error)) return
-    row_wanted = -1
-    if (present(row)) row_wanted = row
-    call read_state_row(path, row_wanted, saved, error)
-    if (allocated(error)) return
-    if (saved%mean_samples > 0) then
-      call make_error(error, RD_ERR_INPUT, '"' // path // '": its rows are interval means ' // &
-        '(output_mean_samples = ' // trim(int_text(saved%mean_samples)) // '), not states; ' // &
-        'a run cannot continue from it')
-      return
-    end if
-    call self%outputs%find('state/y', id, error)
-    if (allocated(error)) then
-      call make_error(error, RD_ERR_INPUT, '"' // path // '": the deck has no bodies, so no state ' // &
-                      'to continue from')
-      return
-    end if
-    if (saved%components /= self%outputs%channels(id)%components) then
-      call make_error(error, RD_ERR_INPUT, '"' // path // '": its state (' // &
-        trim(int_text(size(saved%y))) // ' values) is not the state of this deck (' // &
-        trim(int_text(self%mbs%state_size())) // ' values): ' // &
-        first_difference(saved%components, self%outputs%channels(id)%components))
-      return
-    end if
-    call self%set_start(saved%time, saved%y, error)
-    if (allocated(error)) call error_context(error, '"' // path // '"')
-  contains
-    !> "column k is 'a' in the file, 'b' in the deck" for the first differing word.
-    pure function first_difference(file_words, deck_words) result(text)
-      character(len=*), intent(in) :: file_words, deck_words
-      character(len=:), allocatable :: text
-      character(len=:), allocatable :: a, b
-      integer :: k, ia, ib
-      a = file_words // ' '; b = deck_words // ' '
-      k = 0
-      do
-        k = k + 1
-        ia = index(a, ' '); ib = index(b, ' ')
-        if (a(1:ia) /= b(1:ib) .or. len(a) <= 1 .or. len(b) <= 1) exit
-        a = a(ia + 1:); b = b(ib + 1:)
-      end do
-      text = 'column ' // trim(int_text(k)) // " is '" // trim(a(1:max(ia, 1))) // "' in the file, '" // &
-             trim(b(1:max(ib, 1))) // "' in the deck"
-    end function first_difference
-  end subroutine scene_continue_from
-
-  !> A state vector for this scene: the state size, finite.
-  subroutine check_state(self, y, what, error)
-    type(scene_t), intent(in) :: self
-    real(wp), intent(in) :: y(:)
-    character(len=*), intent(in) :: what
-    type(error_t), allocatable, intent(out) :: error
-    integer :: n
-    n = 0
-    if (associated(self%mbs)) n = self%mbs%state_size()
-    if (size(y) /= n .or. n == 0) then
-      call make_error(error, RD_ERR_INPUT, what // ': the state has ' // trim(int_text(size(y))) // &
-                      ' values; expected the state size ' // trim(int_text(n)))
-      return
-    end if
-    if (.not. all(ieee_is_finite(y))) then
-      call make_error(error, RD_ERR_INPUT, what // ': the state values must be finite')
-    end if
-  end subroutine check_state
-
-  pure integer function scene_output_count(self)
-    class(scene_t), intent(in) :: self
-    scene_output_count = self%outputs%n
-  end function scene_output_count
-
-  subroutine scene_output_name(self, index, name, error)
-    class(scene_t), intent(in) :: self
-    integer, intent(in) :: index
-    character(len=:), allocatable, intent(out) :: name
-    type(error_t), allocatable, intent(out) :: error
-    if (index < 1 .or. index > self%outputs%n) then
-      call make_error(error, RD_ERR_INPUT, 'output index ' // trim(int_text(index)) // &
-                      ' out of range; expected 1 to ' // trim(int_text(self%outputs%n)))
-      name = ''
-      return
-    end if
-    name = self%outputs%channels(index)%name
-  end subroutine scene_output_name
-
-  subroutine scene_output_size(self, name, n, error)
-    class(scene_t), intent(in) :: self
-    character(len=*), intent(in) :: name
-    integer, intent(out) :: n
-    type(error_t), allocatable, intent(out) :: error
-    integer :: id
-    n = 0
-    call self%outputs%find(name, id, error)
-    if (allocated(error)) return
-    n = size(self%outputs%channels(id)%values)
-  end subroutine scene_output_size
-
-  subroutine scene_get_output(self, name, values, error)
-    class(scene_t), intent(inout) :: self
-    character(len=*), intent(in) :: name
-    real(wp), intent(out) :: values(:)
-    type(error_t), allocatable, intent(out) :: error
-    integer :: id
-    call self%outputs%find(name, id, error)
-    if (allocated(error)) return
-    if (size(values) /= size(self%outputs%channels(id)%values)) then
-      call make_error(error, RD_ERR_INPUT, 'output ' // name // ' has ' // &
-                      trim(int_text(size(self%outputs%channels(id)%values))) // ' values; got an array of ' // &
-                      trim(int_text(size(values))))
-      return
-    end if
-    call self%refresh_outputs()
-    values = self%outputs%channels(id)%values
-  end subroutine scene_get_output
-
-  subroutine scene_set_input(self, name, values, error)
-    class(scene_t), intent(inout) :: self
-    character(len=*), intent(in) :: name
-    real(wp), intent(in) :: values(:)
-    type(error_t), allocatable, intent(out) :: error
-    call refuse_after_failure(self, error)
-    if (allocated(error)) return
-    if (.not. self%initialized) then
-      call make_error(error, RD_ERR_HANDLE, 'set_input before initialize')
-      return
-    end if
-    if (.not. all(ieee_is_finite(values))) then
-      call make_error(error, RD_ERR_INPUT, 'input ' // name // ': values must be finite')
-      return
-    end if
-    select case (name)
-    case ('speed')
-      if (size(values) /= 1 .or. values(1) < 0) then
-        call make_error(error, RD_ERR_INPUT, "input 'speed': expected one value >= 0 [m/s]")
-        return
-      end if
-      call self%speed%override(self%t, values(1), error=error)
-      if (allocated(error)) return
-      if (associated(self%mbs)) then
-        call self%mbs%speed%override(self%t, values(1), error=error)
-        if (allocated(error)) return
-        ! The right-hand side changes here: restart the integrator's history.
-        call self%integrator%reinit(self%t, self%y, error)
-      end if
-    case default
-      if (index(name, 'body/') == 1 .and. index(name, '/external_force') == len(name) - 14) then
-        block
-          integer :: ib
-          ib = 0
-          if (associated(self%mbs)) ib = body_index(self%deck, name(6:len(name) - 15))
-          if (ib < 1) then
-            call make_error(error, RD_ERR_INPUT, "input '" // name // "': no such body")
-            return
-          end if
-          if (size(values) /= 6) then
-            call make_error(error, RD_ERR_INPUT, "input '" // name // &
-                            "': expected 6 values (force [N] and moment [N m], fixed frame)")
-            return
-          end if
-          call self%mbs%set_override_load(ib, values(1:3), values(4:6), error)
-          if (.not. allocated(error)) call self%integrator%reinit(self%t, self%y, error)
-        end block
-        return
-      end if
-      call make_error(error, RD_ERR_INPUT, "unknown input '" // name // &
-                      "'; expected 'speed' or 'body/<name>/external_force'")
-    end select
-  end subroutine scene_set_input
-
-  function scene_summary(self) result(text)
-    class(scene_t), intent(in) :: self
-    character(len=:), allocatable :: text
-    text = 'track ' // trim(real_text(self%track%length())) // ' m, ' // &
-           trim(int_text(self%deck%count('segment'))) // ' segments, ' // &
-           trim(int_text(self%deck%count('body'))) // ' bodies, ' // &
-           trim(int_text(self%deck%count('element'))) // ' elements, ' // &
-           trim(int_text(self%deck%count('wheelset'))) // ' wheelsets, t_end ' // trim(real_text(self%t_end)) // ' s'
-  end function scene_summary
-
-  !> One line for the runner: time reached, output steps and the integrator's effort (the
-  !> counters /meta/solver keeps: a run that took many steps or failed many error tests
-  !> shows it without opening the file), then 'note: ' + each run note.
-  function scene_completion_summary(self) result(text)
-    class(scene_t), intent(in) :: self
-    character(len=:), allocatable :: text
-    type(integrator_stats_t) :: st
-    character(len=:), allocatable :: safety
-    text = 'completed t = ' // trim(real_text(self%t)) // ' s, ' // trim(int_text(int(self%output_steps))) // &
-           ' output steps'
-    if (associated(self%integrator)) then
-      call self%integrator_stats(st)
-      text = text // '; solver: ' // trim(int_text(st%steps)) // ' steps, ' // &
-             trim(int_text(st%rhs_evals + st%rhs_evals_jacobian)) // ' RHS calls (' // &
-             trim(int_text(st%rhs_evals_jacobian)) // ' for Jacobians), ' // &
-             trim(int_text(st%error_test_failures)) // ' error-test failures, ' // &
-             trim(int_text(st%nonlinear_conv_failures)) // ' Newton failures'
-    end if
-    safety = self%safety%summary()
-    if (len(safety) > 0) text = text // new_line('a') // safety
-    text = text // self%contact_notes(new_line('a') // 'note: ')
-    if (associated(self%mbs)) text = text // self%drift%notes(self%mbs, new_line('a') // 'warning: ')
-  end function scene_completion_summary
-
-  !> The run's notes for readers, one per line ('' when there are none): wheels that lost
-  !> contact, bodies that left their track frames (rd_frame_drift). A user must know that
-  !> the results contain flights and impacts (flange bouncing, lift-off) or a vehicle left
-  !> behind before reading means off them; the runner prints them and the results file
-  !> keeps them (/meta attribute 'notes', docs/output.md).
-  !> Warnings about legal but suspicious input (one line each, deck line first; empty
-  !> before build): raildyn check and run print them.
-  function scene_warnings(self) result(list)
-    class(scene_t), intent(in) :: self
-    type(deck_string_t), allocatable :: list(:)
-    if (allocated(self%warning_list)) then
-      list = self%warning_list
-    else
-      allocate (list(0))
-    end if
-  end function scene_warnings
-
   !> The results file could be created: its directory exists and the path is not a
   !> directory (raildyn check; run finds the same when it opens the file). Errors name
   !> the deck line of &output 'file', or the -o option.
@@ -1575,46 +776,6 @@ contains
         "' does not exist; expected an existing directory for the results file")
     end if
   end subroutine scene_check_output_path
-
-  function scene_run_notes(self) result(notes)
-    class(scene_t), intent(in) :: self
-    character(len=:), allocatable :: notes
-    notes = self%contact_notes(new_line('a'))
-    if (associated(self%mbs)) notes = notes // self%drift%notes(self%mbs, new_line('a'))
-    notes = notes(2:)            ! '' stays ''
-  end function scene_run_notes
-
-  !> Each wheel that had no contact patch in some output samples, as `lead` followed by its
-  !> note (share of the samples, largest sampled vertical force).
-  function contact_notes(self, lead) result(notes)
-    class(scene_t), intent(in) :: self
-    character(len=*), intent(in) :: lead
-    character(len=:), allocatable :: notes
-    integer :: w, side
-    character(len=16) :: pct, qmax
-    notes = ''
-    if (.not. allocated(self%samples_without_contact)) return
-    do w = 1, size(self%wheelset_names)
-      do side = 1, 2
-        if (self%samples_without_contact(side, w) == 0) cycle
-        write (pct, '(f0.1)') 100.0_wp * real(self%samples_without_contact(side, w), wp) / &
-                              real(self%contact_samples, wp)
-        write (qmax, '(f0.1)') 1.0e-3_wp * self%max_sampled_q(side, w)
-        notes = notes // lead // 'wheelset ' // trim(self%wheelset_names(w)) // ' ' // &
-                trim(merge('left ', 'right', side == 1)) // ' wheel without contact in ' // trim(pct) // &
-                ' % of ' // trim(int_text(int(self%contact_samples))) // ' output samples (largest sampled Q ' // &
-                trim(qmax) // ' kN)'
-      end do
-    end do
-  end function contact_notes
-
-  !> Every file the scene's deck reads (rd_deck input_files): the deck, its includes at any
-  !> depth, profile, irregularity and survey files. Empty before a deck was loaded.
-  function scene_input_files(self) result(files)
-    class(scene_t), intent(in) :: self
-    type(deck_string_t), allocatable :: files(:)
-    files = self%deck%input_files()
-  end function scene_input_files
 
   !> The results file's name with its extension replaced by `suffix` (e.g. '_track.h5'): in the
   !> working directory, named after the deck, unless the deck names a results file.
