@@ -40,6 +40,7 @@ module rd_force_element
     procedure :: preload_count => no_preload
     procedure :: get_preload => no_get_preload
     procedure :: set_preload => no_set_preload
+    procedure :: reset_free_length => keep_free_length
     procedure :: check_bodies
   end type force_element_t
 
@@ -94,6 +95,13 @@ contains
     class(force_element_t), intent(inout) :: self
     real(wp), intent(in) :: p(:)
   end subroutine no_set_preload
+
+  !> Make the element unstressed at its present `deflection` (element_result_t): free length
+  !> += deflection (the vehicle as built, rd_scene_startup). Without a free length: nothing.
+  pure subroutine keep_free_length(self, deflection)
+    class(force_element_t), intent(inout) :: self
+    real(wp), intent(in) :: deflection(3)
+  end subroutine keep_free_length
 
   !> Check the body indices against the model size.
   subroutine check_bodies(self, nbodies, error)

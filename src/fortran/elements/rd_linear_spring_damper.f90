@@ -34,6 +34,7 @@ module rd_linear_spring_damper
     procedure :: preload_count => linear_preload_count
     procedure :: get_preload => linear_get_preload
     procedure :: set_preload => linear_set_preload
+    procedure :: reset_free_length => linear_reset_free_length
   end type linear_spring_damper_t
 
 contains
@@ -71,4 +72,11 @@ contains
     real(wp), intent(in) :: p(:)
     self%preload = unpack(p, self%preload_free, self%preload)
   end subroutine linear_set_preload
+
+  !> Free length += deflection (force_element_t reset_free_length).
+  pure subroutine linear_reset_free_length(self, deflection)
+    class(linear_spring_damper_t), intent(inout) :: self
+    real(wp), intent(in) :: deflection(3)
+    self%free_length = self%free_length + deflection
+  end subroutine linear_reset_free_length
 end module rd_linear_spring_damper

@@ -38,6 +38,7 @@ module rd_nonlinear_spring
     type(force_table_t) :: table_neg(3)  !< unallocated: mirror of table_pos
   contains
     procedure :: evaluate => nonlinear_evaluate
+    procedure :: reset_free_length => nonlinear_reset_free_length
   end type nonlinear_spring_t
 
 contains
@@ -110,4 +111,11 @@ contains
     res%point2 = pp%p2
     res%reaction_point = pp%p2
   end subroutine nonlinear_evaluate
+
+  !> Free length += deflection (force_element_t reset_free_length).
+  pure subroutine nonlinear_reset_free_length(self, deflection)
+    class(nonlinear_spring_t), intent(inout) :: self
+    real(wp), intent(in) :: deflection(3)
+    self%free_length = self%free_length + deflection
+  end subroutine nonlinear_reset_free_length
 end module rd_nonlinear_spring

@@ -24,6 +24,7 @@ module rd_series_spring_damper
     procedure :: state_count => series_state_count
     procedure :: state_units => series_state_units
     procedure :: initial_states => series_initial_states
+    procedure :: reset_free_length => series_reset_free_length
   end type series_spring_damper_t
 
 contains
@@ -73,4 +74,11 @@ contains
     res%point2 = p2
     res%reaction_point = p1
   end subroutine series_evaluate
+
+  !> Free length += deflection along the line (force_element_t reset_free_length).
+  pure subroutine series_reset_free_length(self, deflection)
+    class(series_spring_damper_t), intent(inout) :: self
+    real(wp), intent(in) :: deflection(3)
+    self%free_length = self%free_length + deflection(1)
+  end subroutine series_reset_free_length
 end module rd_series_spring_damper

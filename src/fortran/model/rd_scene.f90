@@ -54,9 +54,6 @@ module rd_scene
   use rd_integrator, only: integrator_t, integrator_settings_t, integrator_stats_t, &
                            jacobian_sparsity_t
   use rd_scene_jacobian, only: scene_jacobian_sparsity
-  use rd_linear_spring_damper, only: linear_spring_damper_t
-  use rd_nonlinear_spring, only: nonlinear_spring_t
-  use rd_series_spring_damper, only: series_spring_damper_t
   implicit none
   private
   public :: scene_t, raildyn_version, state_layout

@@ -243,14 +243,7 @@ contains
     mbs%hold_quasi_static = .false.
     mbs%track => actual
     do e = 1, mbs%element_count()
-      select type (el => mbs%elements(e)%e)
-      type is (linear_spring_damper_t)
-        el%free_length = el%free_length + mbs%el_res(e)%deflection
-      type is (nonlinear_spring_t)
-        el%free_length = el%free_length + mbs%el_res(e)%deflection
-      type is (series_spring_damper_t)
-        el%free_length = el%free_length + mbs%el_res(e)%deflection(1)
-      end select
+      call mbs%elements(e)%e%reset_free_length(mbs%el_res(e)%deflection)
     end do
   end subroutine nominal_lengths_from_initial_configuration
 
