@@ -31,6 +31,7 @@ module rd_external_loads
   contains
     procedure :: add_load
     procedure :: add_forces => external_add_forces
+    procedure :: coupled_bodies => external_coupled_bodies
   end type external_loads_t
 
   !> Per-body force (at the CG) and moment in fixed-frame components, set at run time.
@@ -132,4 +133,13 @@ contains
       forces(ib)%moment = forces(ib)%moment + self%moment(:, ib)
     end do
   end subroutine override_add_forces
+
+  !> Each load acts on its body from that body's track or body frame: no coupling.
+  subroutine external_coupled_bodies(self, pairs, known)
+    class(external_loads_t), intent(in) :: self
+    integer, allocatable, intent(out) :: pairs(:, :)
+    logical, intent(out) :: known
+    allocate (pairs(2, 0))
+    known = .true.
+  end subroutine external_coupled_bodies
 end module rd_external_loads

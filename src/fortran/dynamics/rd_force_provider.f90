@@ -25,6 +25,7 @@ module rd_force_provider
   type, abstract :: force_provider_t
   contains
     procedure(add_forces_i), deferred :: add_forces
+    procedure :: coupled_bodies => unknown_coupling
   end type force_provider_t
 
   abstract interface
@@ -37,4 +38,16 @@ module rd_force_provider
       type(error_t), allocatable, intent(out) :: error
     end subroutine add_forces_i
   end interface
+
+contains
+
+  !> The pairs of bodies whose motion this provider's forces couple (`pairs(:, k)`), for the
+  !> sparsity of the Jacobian (rd_scene_jacobian); `known` false: the provider does not say.
+  subroutine unknown_coupling(self, pairs, known)
+    class(force_provider_t), intent(in) :: self
+    integer, allocatable, intent(out) :: pairs(:, :)
+    logical, intent(out) :: known
+    allocate (pairs(2, 0))
+    known = .false.
+  end subroutine unknown_coupling
 end module rd_force_provider

@@ -31,8 +31,6 @@ module rd_scene_jacobian
   use rd_kinds, only: wp
   use rd_error, only: error_t, error_context
   use rd_multibody, only: multibody_t
-  use rd_external_loads, only: external_loads_t
-  use rd_wheelset_contact, only: wheelset_contact_t
   use rd_coloured_jacobian, only: jacobian_sparsity_t, build_jacobian_sparsity
   use rd_text, only: int_text
   implicit none
@@ -58,7 +56,8 @@ contains
     type(multibody_t), intent(in) :: mbs
     type(body_coupling_t), intent(out) :: coupling
     integer :: nb, ne, e, i, j, k, n, node, b1, b2, fill
-    integer, allocatable :: element_node(:)
+    integer, allocatable :: element_node(:), pairs(:, :)
+    logical :: known
 
     nb = mbs%body_count()
     ne = mbs%element_count()
@@ -86,21 +85,12 @@ contains
       end if
     end do
     do i = 1, size(mbs%providers)
-      select type (p => mbs%providers(i)%p)
-      type is (external_loads_t)
-        ! each load acts on its body from that body's track or body frame: no coupling
-      type is (wheelset_contact_t)
-        ! each wheelset's contact acts on that wheelset from its own kinematics, and with
-        ! flexible track between the wheelset and its rail bodies
-        do j = 1, p%wheelset_count()
-          do k = 1, 2
-            if (p%models(j)%rail_body(k) > 0) call link(p%models(j)%body, p%models(j)%rail_body(k))
-          end do
-        end do
-      class default
-        coupling%dense_reason = 'force provider ' // trim(int_text(i)) // &
-                                ' does not state which bodies it couples'
-      end select
+      call mbs%providers(i)%p%coupled_bodies(pairs, known)
+      if (.not. known) coupling%dense_reason = 'force provider ' // trim(int_text(i)) // &
+                                               ' does not state which bodies it couples'
+      do j = 1, size(pairs, 2)
+        call link(pairs(1, j), pairs(2, j))
+      end do
     end do
 
     ! states of each node, in the order of rd_multibody's layout

@@ -90,6 +90,7 @@ module rd_wheelset_contact
     procedure :: add_forces => wheelset_contact_add_forces
     procedure :: evaluate => wheelset_contact_evaluate
     procedure :: wheelset_count
+    procedure :: coupled_bodies => wheelset_contact_coupled_bodies
   end type wheelset_contact_t
 
 contains
@@ -189,6 +190,23 @@ contains
     wheelset_count = 0
     if (allocated(self%models)) wheelset_count = size(self%models)
   end function wheelset_count
+
+  !> Each wheelset's contact acts on that wheelset from its own kinematics, and with flexible
+  !> track between the wheelset and its rail bodies (force_provider_t coupled_bodies).
+  subroutine wheelset_contact_coupled_bodies(self, pairs, known)
+    class(wheelset_contact_t), intent(in) :: self
+    integer, allocatable, intent(out) :: pairs(:, :)
+    logical, intent(out) :: known
+    integer :: j, k
+    allocate (pairs(2, 0))
+    do j = 1, self%wheelset_count()
+      do k = 1, 2
+        if (self%models(j)%rail_body(k) > 0) pairs = reshape([pairs, self%models(j)%body, &
+          self%models(j)%rail_body(k)], [2, size(pairs, 2) + 1])
+      end do
+    end do
+    known = .true.
+  end subroutine wheelset_contact_coupled_bodies
 
   !> force_provider_t: add every wheelset's contact force and moment to its body's load,
   !> and the reaction of each wheel to its rail body (if any).
