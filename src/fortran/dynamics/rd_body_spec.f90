@@ -8,7 +8,7 @@ module rd_body_spec
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   implicit none
   private
-  public :: body_spec_t, validate_body_spec
+  public :: body_spec_t, validate_body_spec, spin_from_deviation, deviation_from_spin
   public :: DOF_X, DOF_Y, DOF_Z, DOF_YAW, DOF_ROLL, DOF_PITCH
 
   integer, parameter :: DOF_X = 1, DOF_Y = 2, DOF_Z = 3
@@ -81,4 +81,18 @@ contains
       call make_error(error, RD_ERR_INPUT, who // ': a wheelset needs a nominal rolling radius r0 > 0 m'); return
     end if
   end subroutine validate_body_spec
+
+  !> A wheelset's spin from its stored deviation from nominal rolling (docs/conventions.md):
+  !> theta = s / r0 + beta, with `rolled` the distance s; for the rates and accelerations
+  !> `rolled` is the speed V or dV/dt.
+  elemental real(wp) function spin_from_deviation(beta, rolled, r0) result(theta)
+    real(wp), intent(in) :: beta, rolled, r0
+    theta = rolled / r0 + beta
+  end function spin_from_deviation
+
+  !> The inverse of spin_from_deviation: beta = theta - s / r0 (and its rates).
+  elemental real(wp) function deviation_from_spin(theta, rolled, r0) result(beta)
+    real(wp), intent(in) :: theta, rolled, r0
+    beta = theta - rolled / r0
+  end function deviation_from_spin
 end module rd_body_spec

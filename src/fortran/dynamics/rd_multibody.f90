@@ -29,7 +29,8 @@ module rd_multibody
   use rd_ode_system, only: ode_system_t
   use rd_track_point, only: track_point_t, track_geometry_t
   use rd_speed_law, only: speed_law_t
-  use rd_body_spec, only: body_spec_t, validate_body_spec, DOF_PITCH, DOF_Z, DOF_ROLL
+  use rd_body_spec, only: body_spec_t, validate_body_spec, DOF_PITCH, DOF_Z, DOF_ROLL, &
+                          spin_from_deviation, deviation_from_spin
   use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics, ground_kinematics, &
                                 angle_rate_matrix, angle_rate_matrix_dot, inverse_angle_rate, &
                                 frame_rate_shift
@@ -323,7 +324,7 @@ contains
           if (k > 0) q(j) = y(k)
         end do
         ! theta = s/r0 + beta (docs/theory.md, spin deviation)
-        if (b%is_wheelset) q(DOF_PITCH) = s / b%r0 + q(DOF_PITCH)
+        if (b%is_wheelset) q(DOF_PITCH) = spin_from_deviation(q(DOF_PITCH), s, b%r0)
         ! relative rates from the generalized velocities nu = qdot + c(q, Omega)
         c = frame_rate_shift(q, v * self%frames(b%frame)%omega)
         qdot = 0
@@ -332,7 +333,7 @@ contains
           if (k > 0) qdot(j) = y(self%nfree + k) - c(j)
         end do
         ! the spin slot holds nu_theta - V/r0; a frozen spin rolls (dbeta/dt = 0)
-        if (b%is_wheelset) qdot(DOF_PITCH) = qdot(DOF_PITCH) + v / b%r0
+        if (b%is_wheelset) qdot(DOF_PITCH) = spin_from_deviation(qdot(DOF_PITCH), v, b%r0)
         call compute_body_kinematics(self%kin(i), self%frames(b%frame), v, vdot, q, qdot, b%is_wheelset)
       end associate
   end subroutine body_kinematics
@@ -748,7 +749,7 @@ contains
       free_ang = .not. held(4:6)
       ! prescribed accelerations of frozen angles: 0; a wheelset's frozen spin rolls: dV/dt / r0
       acc_pres = 0
-      if (b%is_wheelset) acc_pres(3) = kin%accel / b%r0
+      if (b%is_wheelset) acc_pres(3) = spin_from_deviation(0.0_wp, kin%accel, b%r0)
       call solve_subset(mgen, g, free_ang, acc_pres, angdd)
       kin%qddot(1:3) = wdd
       kin%qddot(4:6) = angdd
@@ -761,8 +762,8 @@ contains
         k = self%free_index(j, i)
         if (k == 0) cycle
         if (j == DOF_PITCH .and. b%is_wheelset) then
-          ydot(k) = kin%qdot(j) - kin%speed / b%r0        ! dbeta/dt
-          ydot(self%nfree + k) = kin%qddot(j) + cdot(j) - kin%accel / b%r0
+          ydot(k) = deviation_from_spin(kin%qdot(j), kin%speed, b%r0)        ! dbeta/dt
+          ydot(self%nfree + k) = deviation_from_spin(kin%qddot(j) + cdot(j), kin%accel, b%r0)
         else
           ydot(k) = kin%qdot(j)
           ydot(self%nfree + k) = kin%qddot(j) + cdot(j)

@@ -47,7 +47,7 @@ module rd_static_preload
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME
   use rd_multibody, only: multibody_t
-  use rd_body_spec, only: DOF_PITCH
+  use rd_body_spec, only: DOF_PITCH, deviation_from_spin
   use rd_speed_law, only: speed_law_t, constant_speed
   use rd_track_point, only: track_geometry_t
   use rd_level_straight_track, only: level_straight_track_t
@@ -106,7 +106,7 @@ contains
         if (k == 0) cycle
         y_level(mb%nfree + k) = mb%kin(ib)%qdot(j)
         if (j == DOF_PITCH .and. mb%bodies(ib)%is_wheelset) &
-          y_level(mb%nfree + k) = mb%kin(ib)%qdot(j) - mb%kin(ib)%speed / mb%bodies(ib)%r0
+          y_level(mb%nfree + k) = deviation_from_spin(mb%kin(ib)%qdot(j), mb%kin(ib)%speed, mb%bodies(ib)%r0)
       end do
     end do
     actual => mb%track

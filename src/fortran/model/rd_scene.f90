@@ -43,7 +43,7 @@ module rd_scene
     N_WHEELSET_CHANNELS, patch_channel_names, patch_channel_units, wheel_channel_names, &
     wheel_channel_units, wheelset_channel_names, wheelset_channel_units, patch_channel_values, &
     wheel_channel_values, wheelset_channel_values
-  use rd_body_spec, only: body_spec_t, DOF_Y, DOF_YAW, DOF_PITCH
+  use rd_body_spec, only: body_spec_t, DOF_Y, DOF_YAW, DOF_PITCH, deviation_from_spin
   use rd_multibody, only: multibody_t, BODY_OUT_RELATIVE, BODY_OUT_FIXED, ELEMENT_OUT
   use rd_force_element, only: force_element_t
   use rd_force_provider, only: force_provider_t

@@ -302,9 +302,9 @@ contains
           ! docs/conventions.md: a wheelset's pitch output is the spin deviation from
           ! nominal rolling, beta = theta - s(t)/r0 (and its rates), not the spin angle.
           associate (r0 => self%mbs%bodies(i)%r0)
-            rel(6) = rel(6) - self%mbs%speed%distance(self%t) / r0
-            rel(12) = rel(12) - self%mbs%speed%speed(self%t) / r0
-            rel(18) = rel(18) - self%mbs%speed%acceleration(self%t) / r0
+            rel(6) = deviation_from_spin(rel(6), self%mbs%speed%distance(self%t), r0)
+            rel(12) = deviation_from_spin(rel(12), self%mbs%speed%speed(self%t), r0)
+            rel(18) = deviation_from_spin(rel(18), self%mbs%speed%acceleration(self%t), r0)
           end associate
         end if
         self%outputs%channels(j)%values = rel(1:6); j = j + 1
