@@ -32,7 +32,7 @@ module rd_wheelset_contact
   use rd_contact_patch, only: contact_patch_t, wheel_contact_t, PATCH_FLANGE_SPRING
   use rd_contact_geometry, only: contact_geometry_t, wheelset_contact, CONTACT_MODEL_STRIP, CONTACT_MODEL_TABLE, &
     SIDE_LEFT, SIDE_RIGHT
-  use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration
+  use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration, hertz_damped_force
   use rd_creepage, only: creepage_t, creepages_from_velocities
   use rd_creep_law, only: creep_law_t, creep_force_t, creep_patch_t => contact_patch_t
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, validate_wheelset_contact_spec, &
@@ -383,7 +383,7 @@ contains
         if (p%kind == PATCH_FLANGE_SPRING) then
           ! knife-edge lateral stop: linear spring on the lateral overlap, no creep
           hp = hertz_patch_t()
-          nf = bounded_damped_force(m%flange_stiffness * p%penetration, m%damping, rate)
+          nf = hertz_damped_force(m%flange_stiffness * p%penetration, m%damping, rate)
         else
           ! a blended patch (share < 1) is that share of its bump's full description: the
           ! bump's ellipse and creep forces, scaled (its penetration share^(2/3) delta gives
@@ -391,7 +391,7 @@ contains
           ! forces rose with infinite slope where a split began)
           call hertz_from_penetration(m%hertz, [p%curv_wheel_roll, p%curv_wheel_lat, &
                                       p%curv_rail_roll, p%curv_rail_lat], p%penetration / p%share**(2.0_wp / 3), hp)
-          nf = bounded_damped_force(p%share * hp%normal_force, m%damping, rate)
+          nf = hertz_damped_force(p%share * hp%normal_force, m%damping, rate)
           ! creepages (thesis 3.6.1; eqs. 4.80-4.86): wheel material point relative to the rail
           ! (the rail material moves with v_rail, translation only: a rail body's rotations
           ! are frozen)
@@ -464,22 +464,6 @@ contains
     r_c = matmul(kin%rot_attach, point_wheel) - 0.5_wp * penetration * n
     v_c = kin%v + cross(kin%omega, r_c)
   end subroutine patch_frame_and_point
-
-  !> Normal force with contact damping: N_el + c_n d(delta)/dt with the viscous term bounded
-  !> by the elastic force, |c_n d(delta)/dt| <= N_el, so N stays in [0, 2 N_el]. The plain
-  !> Kelvin-Voigt force max(0, N_el + c_n rate) jumps from 0 to c_n rate when a patch opens
-  !> while approaching (10 kN for 2e5 N s/m at 5 cm/s): a discontinuous right-hand side that
-  !> made the BDF Newton iteration fail. As in Hunt & Crossley (J. Appl. Mech. 42, 1975), the
-  !> damping vanishes with the elastic force at first touch; unlike their N_el (1 + alpha
-  !> rate) it keeps the deck's c_n [N s/m] wherever c_n |rate| < N_el (the loaded contact).
-  elemental real(wp) function bounded_damped_force(elastic_force, damping, rate) result(force)
-    real(wp), intent(in) :: elastic_force, damping, rate
-    if (elastic_force <= 0) then
-      force = 0
-    else
-      force = elastic_force + max(-elastic_force, min(elastic_force, damping * rate))
-    end if
-  end function bounded_damped_force
 
   !> Run-time checks of one wheel (messages get time, wheelset and side from the caller).
   subroutine check_wheel(m, side, wc, out, fw, mw, error)

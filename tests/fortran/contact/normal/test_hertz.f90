@@ -7,7 +7,7 @@ program test_hertz
   use rd_error, only: error_t
   use rd_elliptic_integrals, only: elliptic_ke
   use rd_hertz
-  use rd_test_support, only: check_close, fail, test_summary
+  use rd_test_support, only: check, check_close, fail, test_summary
   implicit none
   type(hertz_params_t) :: params, params_table
   type(hertz_patch_t) :: patch, patch2
@@ -130,6 +130,9 @@ program test_hertz
   call check_close(hertz_damped_force(1000.0_wp, 1.0e4_wp, 0.01_wp), 1100.0_wp, 1.0e-15_wp, 'damped')
   if (hertz_damped_force(1000.0_wp, 1.0e4_wp, -1.0_wp) /= 0.0_wp) call fail('damping must not pull')
   if (hertz_damped_force(0.0_wp, 1.0e4_wp, 1.0_wp) /= 0.0_wp) call fail('no damping without contact')
+  ! the viscous term is bounded by the elastic force: N in [0, 2 N_el] (closed form)
+  call check(hertz_damped_force(1000.0_wp, 1.0e4_wp, 1.0_wp) == 2000.0_wp, 'damping bounded by N_el when closing fast')
+  call check(hertz_damped_force(1000.0_wp, 1.0e4_wp, -0.05_wp) == 500.0_wp, 'damping unbounded below N_el when opening')
 
   ! --- bad parameters
   call hertz_init(params, error, young_wheel=-1.0_wp)
