@@ -333,6 +333,8 @@ contains
   end function axes_from_angles
 
   !> The force element of `&element` number i.
+  !> Element i of the deck. The reader has checked the type's rules (rd_deck_resolve
+  !> check_element: required keys, table and series damping), once, for check and run.
   subroutine build_element(deck, i, element, error)
     type(deck_t), intent(in) :: deck
     integer, intent(in) :: i
@@ -378,19 +380,8 @@ contains
       block
         type(nonlinear_spring_t), allocatable :: s
         allocate (s)
-        if (.not. deck%given('element', i, 'table_axis')) then
-          call make_error(error, RD_ERR_INPUT, deck%origin('element', i, 'table_axis') // &
-                          ": missing; expected 'x', 'y' or 'z' (the element axis the table acts along)")
-          return
-        end if
         call deck%get('element', i, 'table_axis', axis, error); if (allocated(error)) return
         ia = index('xyz', axis)
-        if (.not. deck%given('element', i, 'table_deflection') .or. &
-            .not. deck%given('element', i, 'table_force')) then
-          call make_error(error, RD_ERR_INPUT, deck%origin('element', i, 'table_force') // &
-                          ': a table element needs table_deflection and table_force')
-          return
-        end if
         call deck%get('element', i, 'table_deflection', e, error); if (allocated(error)) return
         call deck%get('element', i, 'table_force', f, error); if (allocated(error)) return
         call deck%get('element', i, 'clearance', clearance, error); if (allocated(error)) return
@@ -409,17 +400,7 @@ contains
       block
         type(series_spring_damper_t), allocatable :: s
         allocate (s)
-        if (.not. deck%given('element', i, 'series_stiffness')) then
-          call make_error(error, RD_ERR_INPUT, deck%origin('element', i, 'series_stiffness') // &
-                          ': missing; expected the stiffness in series with the damper [N/m] (> 0)')
-          return
-        end if
         call deck%get('element', i, 'series_stiffness', ks, error); if (allocated(error)) return
-        if (.not. (c(1) > 0)) then
-          call make_error(error, RD_ERR_INPUT, deck%origin('element', i, 'damping') // &
-                          ': a series spring-damper needs damping(1) > 0 [N s/m] (along its line)')
-          return
-        end if
         s%u1 = p1; s%u2 = p2; s%stiffness = ks; s%damping = c(1)
         call move_alloc(s, element)
       end block
@@ -564,12 +545,7 @@ contains
         call deck%get('wheelset', i, 'contact', text, error); if (allocated(error)) return
         w%model = text
         if (w%model == 'profile') then
-          if (.not. deck%given('wheelset', i, 'wheel_profile') .or. &
-              .not. deck%given('wheelset', i, 'rail_profile')) then
-            call make_error(error, RD_ERR_INPUT, deck%origin('wheelset', i, 'wheel_profile') // &
-              ": profile contact needs wheel_profile and rail_profile (a file, or 's1002' / '60e1' / '54e1')")
-            return
-          end if
+          ! the reader requires both profiles with contact = 'profile' (rd_deck_resolve)
           w%wheel_profile = deck%path('wheelset', i, 'wheel_profile')
           w%rail_profile = deck%path('wheelset', i, 'rail_profile')
           ! right side: its own profile only when given, else the same as the left one

@@ -674,8 +674,13 @@ contains
       case ('series_spring_damper')
         call need(e, 'series_stiffness', "type = 'series_spring_damper'")
         if (allocated(error)) return
-        ! one damper along the line joining the points (damping(1)): nothing across it
+        ! one damper along the line joining the points (damping(1) > 0): nothing across it
         jd = pidx(e, 'damping')
+        if (.not. (e%values(jd)%reals(1) > 0)) then
+          call make_error(error, RD_ERR_INPUT, where_value(schema, sources, e, jd) // &
+            'a series spring-damper needs damping(1) > 0 [N s/m] (along its line)')
+          return
+        end if
         if (any(e%values(jd)%reals(2:3) /= 0)) then
           call make_error(error, RD_ERR_INPUT, where_value(schema, sources, e, jd) // &
             'a series spring-damper damps along the line joining its points only, with ' // &
