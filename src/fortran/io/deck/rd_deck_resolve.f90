@@ -678,7 +678,8 @@ contains
         jd = pidx(e, 'damping')
         if (.not. (e%values(jd)%reals(1) > 0)) then
           call make_error(error, RD_ERR_INPUT, where_value(schema, sources, e, jd) // &
-            'a series spring-damper needs damping(1) > 0 [N s/m] (along its line)')
+            'a series spring-damper damps along the line joining its points, with damping(1); ' // &
+            'expected damping(1) > 0 (N s/m)')
           return
         end if
         if (any(e%values(jd)%reals(2:3) /= 0)) then

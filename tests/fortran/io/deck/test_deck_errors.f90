@@ -140,6 +140,9 @@ program test_deck_errors
     "&element name = 's', type = 'series_spring_damper', body2 = 'bogie1' /", &
     "case.nml:3: &element 'series_stiffness'", "required with type = 'series_spring_damper'", &
     'expected a real number > 0 (N/m)')
+  call case('series spring without its damper', sim // body // &
+    "&element name = 's', type = 'series_spring_damper', body2 = 'bogie1', series_stiffness = 1e6 /", &
+    "case.nml:3: &element 'damping'", 'damps along the line joining its points', 'expected damping(1) > 0 (N s/m)')
   call case('profile contact without profiles', sim // body // &
     "&wheelset name = 'w', body = 'bogie1' /", "case.nml:3: &wheelset 'wheel_profile'", &
     "required with contact = 'profile'", "expected a quoted file name or one of: s1002, 60e1, 54e1")
