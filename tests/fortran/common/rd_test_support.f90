@@ -1,8 +1,9 @@
 !> The checks every Fortran test program uses: one failure counter per program, checks that
 !> print what failed, and a summary that sets the exit code (ctest reads it).
 !>
-!> A check prints `ok    what` or `FAIL  what` (with its measured value or detail, if given). A
-!> test calls `test_summary` last: it stops with exit code 1 if any check failed.
+!> A check prints `FAIL  what` when it fails (many tests word `what` as the failure); when it
+!> passes it prints `ok    what` only with a measured value or a detail, the figure worth
+!> seeing in the log. A test calls `test_summary` last: exit code 1 if any check failed.
 module rd_test_support
   use rd_kinds, only: wp
   use rd_error, only: error_t
@@ -30,11 +31,11 @@ contains
       line = line // ' (' // trim(adjustl(number)) // ')'
     end if
     if (present(detail)) line = line // '  ' // detail
-    if (ok) then
-      write (*, '(a)') 'ok    ' // line
-    else
+    if (.not. ok) then
       n_failures = n_failures + 1
       write (*, '(a)') 'FAIL  ' // line
+    else if (present(value) .or. present(detail)) then
+      write (*, '(a)') 'ok    ' // line
     end if
   end subroutine check
 
