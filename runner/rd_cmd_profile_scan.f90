@@ -64,6 +64,7 @@ contains
     character(len=*), intent(in) :: args(:)
     integer, intent(out) :: status
     character(len=:), allocatable :: wheel_name, rail_name, csv, h5, plot, wheel_right_name, rail_right_name
+    character(len=:), allocatable :: pair  !< the profiles, as the scan's header and plot title name them
     character(len=:), allocatable :: conicity_csv, conicity_plot, contact_plot, curves_csv
     type(delta_r_table_t) :: table
     type(kinematic_motion_t) :: motions(32)
@@ -190,11 +191,12 @@ contains
     if (len(wheel_right_name) > 0 .or. len(rail_right_name) > 0) then
       if (len(wheel_right_name) == 0) wheel_right_name = wheel_name
       if (len(rail_right_name) == 0) rail_right_name = rail_name
-      write (output_unit, '(a)') '# profile scan: left wheel ' // wheel_name // ', rail ' // rail_name // &
+      pair = 'left wheel ' // wheel_name // ', rail ' // rail_name // &
         '; right wheel ' // wheel_right_name // ', rail ' // rail_right_name
     else
-      write (output_unit, '(a)') '# profile scan: wheel ' // wheel_name // ', rail ' // rail_name
+      pair = 'wheel ' // wheel_name // ', rail ' // rail_name
     end if
+    write (output_unit, '(a)') '# profile scan: ' // pair
     if (len(table_dir) > 0) write (output_unit, '(a)') '# through the contact table in ' // table_dir
     write (output_unit, '(a,f7.4,a,f6.3,a,f6.3,a,f6.3,a)') '# inclination ', pl%inclination, ', gauge ', pl%gauge, &
       ' m, back-to-back ', pl%back_to_back, ' m, r0 ', pl%nominal_radius, ' m'
@@ -260,7 +262,9 @@ contains
       if (.not. plotted('profile-scan ' // shell_quote(h5), plot)) return
     end if
     if (len(conicity_plot) > 0) then
-      if (.not. plotted('conicity ' // shell_quote(conicity_csv), conicity_plot)) return
+      if (.not. plotted('conicity ' // shell_quote(conicity_csv) // ' --title ' // &
+                        shell_quote('equivalent conicity: ' // pair), &
+                        conicity_plot)) return
     end if
     if (len(contact_plot) > 0) then
       if (.not. plotted('contact-points ' // shell_quote(h5) // ' ' // shell_quote(curves_csv), contact_plot)) return

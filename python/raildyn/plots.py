@@ -173,9 +173,11 @@ def plot_root_locus(path: str | os.PathLike, out: str | os.PathLike) -> str:
     return os.fspath(out)
 
 
-def plot_conicity(path: str | os.PathLike, out: str | os.PathLike) -> str:
+def plot_conicity(path: str | os.PathLike, out: str | os.PathLike, title: str | None = None) -> str:
     """Equivalent conicity against amplitude from ``raildyn profile-scan --conicity-csv``:
-    harmonic linearisation and EN 15302's integration (Klingel) and regression methods."""
+    harmonic linearisation and EN 15302's integration (Klingel) and regression methods.
+    ``title``: what the curves are of (profile-scan passes its wheel and rail); default the
+    file's name."""
     import numpy as np
     plt = _pyplot()
     data = np.genfromtxt(path, delimiter=",", names=True)
@@ -191,7 +193,7 @@ def plot_conicity(path: str | os.PathLike, out: str | os.PathLike) -> str:
     ax.set_ylabel("equivalent conicity [-]")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
-    ax.set_title(os.path.basename(os.fspath(path)), fontsize=9)
+    ax.set_title(title or f"equivalent conicity, {os.path.basename(os.fspath(path))}", fontsize=9)
     fig.tight_layout()
     fig.savefig(out, dpi=90)
     plt.close(fig)
@@ -270,6 +272,7 @@ def main(argv: list[str] | None = None) -> int:
     p_con = sub.add_parser("conicity", help="conicity against amplitude (profile-scan --conicity-csv)")
     p_con.add_argument("file")
     p_con.add_argument("out")
+    p_con.add_argument("--title", help="plot title (default: the file's name)")
     p_cp = sub.add_parser("contact-points",
                           help="profiles with contact-point lines (profile-scan --contact-plot: H5 and profiles CSV)")
     p_cp.add_argument("file")
@@ -286,7 +289,7 @@ def main(argv: list[str] | None = None) -> int:
         elif args.command == "profile-scan":
             written = plot_profile_scan(args.file, args.out)
         elif args.command == "conicity":
-            written = plot_conicity(args.file, args.out)
+            written = plot_conicity(args.file, args.out, args.title)
         elif args.command == "contact-points":
             written = plot_contact_points(args.file, args.curves, args.out)
         elif args.command == "root-locus":

@@ -363,3 +363,28 @@ def test_an_override_that_changes_the_kind_warns_at_both_places(raildyn_exe, tmp
         errors = error_lines(res)
         assert res.returncode == 1 and len(errors) == 1, res.stderr
         assert "scene.nml:2: &wheelset 'fastsim_bound'" in errors[0] and "creep_law = 'polach'" in errors[0]
+
+
+@pytest.mark.inputs_unused
+def test_an_override_to_the_unsaturated_linear_law_warns_on_the_base_friction(raildyn_exe, tmp_path):
+    """The base deck gives friction (read by its FASTSIM law); a scene switches the law to
+    Kalker's unsaturated linear one, which has no friction limit: the base's friction is
+    reported on its own line as unread (warning of check and run, the run goes on), like any
+    kind-changing override. Written in the overriding file itself, it stays an error."""
+    (tmp_path / "base.nml").write_text(BASE.replace("fastsim_grid = 12", "friction = 0.2"))
+    scene = tmp_path / "scene.nml"
+    scene.write_text("&include file = 'base.nml' /\n&wheelset name = 'w1', creep_law = 'linear' /\n")
+    chk, rn = check_and_run(raildyn_exe, scene, tmp_path)
+    for res in (chk, rn):
+        assert res.returncode == 0, res.stderr
+        warnings = [l for l in res.stderr.splitlines() if "not read" in l]
+        assert len(warnings) == 1, res.stderr
+        assert "base.nml:4: &wheelset 'friction'" in warnings[0] and "no friction limit" in warnings[0]
+        assert warnings[0].startswith("raildyn: warning:")
+    scene.write_text("&include file = 'base.nml' /\n&wheelset name = 'w1', creep_law = 'linear', "
+                     "friction = 0.3 /\n")
+    chk, rn = check_and_run(raildyn_exe, scene, tmp_path)
+    for res in (chk, rn):
+        errors = error_lines(res)
+        assert res.returncode == 1 and len(errors) == 1, res.stderr
+        assert "scene.nml:2: &wheelset 'friction'" in errors[0] and "no friction limit" in errors[0]

@@ -103,3 +103,13 @@ def test_the_c_api_gives_the_same_notes(raildyn_exe, tmp_path):
         assert all("100.0 % of 11 output samples" in n for n in m.run_notes())
         m.advance(2e-3)
         assert m.run_notes() == printed and len(printed) == 2
+
+
+def test_a_share_that_rounds_to_zero_reads_below_a_tenth(raildyn_exe, tmp_path):
+    """Dropped from 0.1 nm it lands within the first output interval: one of 2001 samples
+    (0.05 %) is without contact. The note says '< 0.1 %', not '.0 %' or '0.0 %'."""
+    t_flight, interval, t_end = 5e-6, 1e-5, 0.02
+    out = run(raildyn_exe, tmp_path, t_end=t_end, interval=interval, z0=R0 + 0.5 * G * t_flight ** 2)
+    for side in ("left", "right"):
+        assert f"wheelset w1 {side} wheel without contact in < 0.1 % of 2001 output samples" in out, out
+    assert " .0 %" not in out and " 0.0 %" not in out

@@ -69,15 +69,33 @@ contains
     do w = 1, size(self%wheelset_names)
       do side = 1, 2
         if (self%samples_without_contact(side, w) == 0) cycle
-        write (pct, '(f0.1)') 100.0_wp * real(self%samples_without_contact(side, w), wp) / &
-                              real(self%contact_samples, wp)
-        write (qmax, '(f0.1)') 1.0e-3_wp * self%max_sampled_q(side, w)
+        pct = percent_text(100.0_wp * real(self%samples_without_contact(side, w), wp) / &
+                           real(self%contact_samples, wp))
+        qmax = one_decimal(1.0e-3_wp * self%max_sampled_q(side, w))
         notes = notes // lead // 'wheelset ' // trim(self%wheelset_names(w)) // ' ' // &
                 trim(merge('left ', 'right', side == 1)) // ' wheel without contact in ' // trim(pct) // &
                 ' % of ' // trim(int_text(int(self%contact_samples))) // ' output samples (largest sampled Q ' // &
                 trim(qmax) // ' kN)'
       end do
     end do
+  contains
+    !> A share in % to one decimal; a share that is not zero but rounds to it reads '< 0.1'
+    pure function percent_text(x) result(text)
+      real(wp), intent(in) :: x
+      character(len=16) :: text
+      if (x > 0 .and. x < 0.05_wp) then
+        text = '< 0.1'
+      else
+        text = one_decimal(x)
+      end if
+    end function percent_text
+    !> x to one decimal with its leading zero (f0.1 alone prints '.0' and '.5')
+    pure function one_decimal(x) result(text)
+      real(wp), intent(in) :: x
+      character(len=16) :: text
+      write (text, '(f0.1)') x
+      if (text(1:1) == '.') text = '0' // text
+    end function one_decimal
   end function contact_notes
 
   !> Every file the scene's deck reads (rd_deck input_files): the deck, its includes at any

@@ -428,12 +428,21 @@ contains
         ! the unsaturated linear law has no friction limit (Kalker's linear theory)
         if (has(entities(i), 'friction') .and. sval(entities(i), 'creep_law') == 'linear' .and. &
             sval(entities(i), 'creep_saturation') == 'none') then
-          call make_error(error, RD_ERR_INPUT, &
-            where_value(schema, sources, entities(i), pidx(entities(i), 'friction')) // &
-            "not read by creep_law = 'linear' with creep_saturation = 'none' (Kalker's linear " // &
-            "law has no friction limit); expected it left out, or creep_saturation = " // &
-            "'shen_hedrick_elkins', or creep_law = 'fastsim' or 'polach'")
-          return
+          ! an override in a later file that switched the law: the base deck's friction is
+          ! reported, not refused, as check_unused does for every kind-changing override
+          j = pidx(entities(i), 'friction')
+          if (overridden(entities(i), pidx(entities(i), 'creep_law'), j) .or. &
+              overridden(entities(i), pidx(entities(i), 'creep_saturation'), j)) then
+            notes = [notes, deck_string_t(where_value(schema, sources, entities(i), j) // &
+                     "not read with creep_law = 'linear' and creep_saturation = 'none' " // &
+                     "(Kalker's linear law has no friction limit), an override of the kind; ignored")]
+          else
+            call make_error(error, RD_ERR_INPUT, where_value(schema, sources, entities(i), j) // &
+              "not read by creep_law = 'linear' with creep_saturation = 'none' (Kalker's linear " // &
+              "law has no friction limit); expected it left out, or creep_saturation = " // &
+              "'shen_hedrick_elkins', or creep_law = 'fastsim' or 'polach'")
+            return
+          end if
         end if
         do k = 1, i - 1
           if (allocated(error)) exit
@@ -490,7 +499,7 @@ contains
     subroutine check_unused(e)
       type(deck_entity_t), intent(in) :: e
       integer :: j, js, k
-      logical :: read, overridden
+      logical :: read
       character(len=:), allocatable :: why
       associate (g => schema%groups(e%group))
         do j = 1, size(g%params)
@@ -518,11 +527,7 @@ contains
               end if
             end select
             if (read) cycle
-            overridden = .false.
-            if (e%values(js)%given .and. e%values(js)%source /= e%values(j)%source) &
-              overridden = findloc(e%contributors, e%values(js)%source, dim=1) > &
-                           findloc(e%contributors, e%values(j)%source, dim=1)
-            if (overridden) then
+            if (overridden(e, js, j)) then
               notes = [notes, deck_string_t(where_value(schema, sources, e, j) // 'not read ' // why // &
                        ', an override of the kind; ignored (' // p%name // ' is read only ' // &
                        used_text(p) // ')')]
@@ -536,6 +541,17 @@ contains
         end do
       end associate
     end subroutine check_unused
+
+    !> True when e's selector parameter js was given in a later file than its parameter j
+    !> (an override that replaced the kind reading j).
+    logical function overridden(e, js, j)
+      type(deck_entity_t), intent(in) :: e
+      integer, intent(in) :: js, j
+      overridden = .false.
+      if (e%values(js)%given .and. e%values(js)%source /= e%values(j)%source) &
+        overridden = findloc(e%contributors, e%values(js)%source, dim=1) > &
+                     findloc(e%contributors, e%values(j)%source, dim=1)
+    end function overridden
 
     integer function pidx(e, name)
       type(deck_entity_t), intent(in) :: e
