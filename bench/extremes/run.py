@@ -390,6 +390,25 @@ def _last_message(run: Path) -> str:
     return msg.removeprefix("raildyn: error: ")
 
 
+def summarise(msg: str, physics: bool = False) -> str:
+    """The runner's error line shortened to what a table can hold: the integrator, its flag
+    and the time reached, then the root cause (the right-hand side's error, after 'rhs at t =
+    ... s: '), without the module prefix."""
+    root = msg
+    if "rhs at t = " in msg:
+        root = msg.rsplit("rhs at t = ", 1)[1].split(" s: ", 1)[-1]
+    root = root.removeprefix("multibody%rhs: ").strip()
+    if physics:   # the stop's own message says what and when
+        return root
+    integ = re.search(r"integrator '(\w+)'", msg)
+    flag = re.search(r"(\w+) \(flag -?\d+\)", msg)
+    reached = re.search(r"time reached ([-+0-9.Ee]+) s", msg)
+    if integ and flag and reached:
+        head = f"{integ.group(1)} {flag.group(1)} at t = {float(reached.group(1)):.4g} s"
+        return head if root == msg else f"{head}: {root}"
+    return root
+
+
 def strip_paths(text: str) -> str:
     return re.sub(r"(?:/[\w.\-]+)+/(?=[\w.\-]+)", "", text)
 
@@ -417,8 +436,8 @@ def classify(run: Path, scene: Scene) -> Row:
         row.outcome, row.reason = "FAILURE", f"hang: still running at the CPU-time limit of {meas['cpu_limit']:g} s"
     elif meas.get("timed_out"):
         row.outcome, row.reason = "FAILURE", f"hang: still running at the wall-clock limit of {meas['limit']:g} s"
-    elif code is None:
-        row.outcome, row.reason = "FAILURE", "not run (no status)"
+    elif code is None:   # an interrupted or unfinished matrix: nothing to judge
+        row.outcome, row.reason = "not run", "no status.json in the run folder"
     elif code == 0:
         problems = []
         if meta.get("status") != "completed":
@@ -437,12 +456,14 @@ def classify(run: Path, scene: Scene) -> Row:
         msg = _last_message(run)
         documented = any(k in msg.lower() for k in DOCUMENTED_STOPS)
         row.outcome = "physics stop" if documented else "FAILURE"
-        row.reason = msg if documented else f"exit 3 without a documented reason: {msg}"
+        row.reason = summarise(msg, physics=True) if documented else f"exit 3 without a documented reason: {summarise(msg)}"
     else:
         kind = {2: "solver failure", 1: "bad input", 4: "file error", 5: "internal error"}.get(code, f"exit {code}")
-        row.outcome, row.reason = "FAILURE", f"{kind} (exit {code}): {_last_message(run)}"
-    row.reason = strip_paths(row.reason)[:220]
-    if scene.expect == "completed":
+        row.outcome, row.reason = "FAILURE", f"{kind} (exit {code}): {summarise(_last_message(run))}"
+    row.reason = strip_paths(row.reason)[:300]
+    if row.outcome == "not run":
+        row.expected = True
+    elif scene.expect == "completed":
         row.expected = row.outcome == "completed"
     else:
         row.expected = row.outcome == "physics stop" and scene.expect.split("-")[0] in row.reason.lower()
@@ -493,7 +514,9 @@ def _match(pattern: str, vehicle: str, scene: str, level: str) -> bool:
 
 
 def run_matrix(build: Path, work: Path, jobs: int, backend: str, slurm_options: list, quick: bool,
-               only: list | None, timeout: float, cpu_limit: int, progress=print) -> list[Row]:
+               only: list | None, timeout: float, cpu_limit: int, progress=print, run: bool = True) -> list[Row]:
+    """Run the matrix (run=False: classify the run folders of an earlier run only) and classify
+    every run."""
     exe = (build / "bin" / "raildyn").resolve()
     if not exe.exists():
         raise SystemExit(f"bench/extremes: no runner {exe} (build first)")
@@ -512,10 +535,11 @@ def run_matrix(build: Path, work: Path, jobs: int, backend: str, slurm_options: 
         if backend == "slurm":
             # the wrapper's limits hold on a node as well; --time backs them up
             camp.slurm_options = list(slurm_options) + [f"--time={max(1, int(timeout // 60) + 2)}"]
-        try:
-            C.run_campaign(camp, jobs=jobs, executor=backend, submit=True, progress=lambda *_: None)
-        except C.CampaignError as exc:   # the summary's metrics: the matrix has none
-            progress(f"bench/extremes: {camp.name}: {exc}")
+        if run:
+            try:
+                C.run_campaign(camp, jobs=jobs, executor=backend, submit=True, progress=lambda *_: None)
+            except C.CampaignError as exc:   # the summary's metrics: the matrix has none
+                progress(f"bench/extremes: {camp.name}: {exc}")
         for i, lv in enumerate(levels):
             row = classify(C.run_dir(camp, i), s)
             row.vehicle, row.level = v.key, lv.name
@@ -556,17 +580,19 @@ def render(rows: list[Row], meta: dict) -> str:
                 "|---|---|---|---|---:|---:|---:|---:|---|"]
         for r in vrows:
             rhs = f"{r.rhs} + {r.rhs_jac}" if r.rhs else ""
-            exp = "" if r.outcome == "n/a" else ("yes" if r.expected else "**no**")
+            exp = "" if r.outcome in ("n/a", "not run") else ("yes" if r.expected else "**no**")
             reason = r.reason.replace("|", "/")
             out.append(f"| {scenes[r.scene].title} | {r.level} | {r.outcome} | {exp} | {r.steps or ''} | {rhs} | "
                        f"{fmt(r.cpu, '.1f')} | {fmt(r.t_reached, '.3g')} | {reason} |")
         out.append("")
-    ran = [r for r in rows if r.outcome != "n/a"]
+    ran = [r for r in rows if r.outcome not in ("n/a", "not run")]
+    not_run = sum(r.outcome == "not run" for r in rows)
     counts = {k: sum(r.outcome == k for r in ran) for k in ("completed", "physics stop", "FAILURE")}
     cpu = sum(r.cpu for r in ran if np.isfinite(r.cpu))
     out += [f"Totals: {len(ran)} runs: {counts['completed']} completed, {counts['physics stop']} physics stops, "
             f"{counts['FAILURE']} FAILURES; {sum(not r.expected for r in ran)} not as expected; "
-            f"{cpu:.0f} CPU s in all ({cpu / 60:.1f} CPU min).", "", meta["source"]]
+            f"{cpu:.0f} CPU s in all ({cpu / 60:.1f} CPU min)."
+            + (f" {not_run} rows not run (the matrix was stopped before them)." if not_run else ""), "", meta["source"]]
     return "\n".join(out) + "\n"
 
 
@@ -582,12 +608,13 @@ def main(argv=None) -> int:
     ap.add_argument("--timeout", type=float, default=3600.0, help="wall-clock limit of one run [s]")
     ap.add_argument("--cpu-limit", type=int, default=600, help="CPU-time limit of one run [s]")
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--no-run", action="store_true", help="classify the run folders of an earlier run only")
     ap.add_argument("--json", type=Path, help="rows as JSON (default <work>/extremes.json)")
     args = ap.parse_args(argv)
     work = (args.work or args.build / "extremes").resolve()
     t0 = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     rows = run_matrix(args.build, work, args.jobs, args.backend, args.slurm_option, args.quick, args.only,
-                      args.timeout, args.cpu_limit)
+                      args.timeout, args.cpu_limit, run=not args.no_run)
     t1 = time.strftime("%H:%M UTC", time.gmtime())
     commit = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=REPO, capture_output=True,
                             text=True).stdout.strip()

@@ -1,0 +1,124 @@
+"""bench/extremes/run.py (issue 14 item 5, stability at the extremes): three of the matrix's
+cheapest rows run through the bench's own code path (scene deck + level overrides as a
+raildyn.campaign, the measuring runner wrapper, the classifier), shortened to 0.7 s (--quick),
+and the classifier's verdict checked against what each run must give:
+
+- the TGV knife-edge vehicle on straight track at 8 m/s completes (exit 0, finite results, no
+  contact loss);
+- the same vehicle with a 150 kN m roll moment on wheelset 1 from 0.5 s stops on the lift-off
+  limit (exit 3, reason "wheel lift-off"): unloading a wheel carrying about 60 kN at 0.75 m from
+  the centre takes about 45 kN m, so the wheel must lift, and 0.2 s is ample for 5 mm;
+- a Manchester run on strips with a CPU-time limit of 1 s (it needs about 2.5 CPU s) is stopped
+  by the wrapper and classified as a hang (FAILURE).
+
+And the classifier on results it did not write: a completed run whose results hold a NaN, and
+a solver failure (exit 2), are FAILUREs. Not timed: no CPU-second figure is asserted.
+"""
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def bench():
+    spec = importlib.util.spec_from_file_location("bench_extremes_run", REPO / "bench" / "extremes" / "run.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod      # dataclasses look their module up
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_scene_decks_are_those_the_script_writes(bench):
+    """The tracked decks in bench/extremes/scenes are run.py's (a changed scene must be
+    regenerated and committed, not only described)."""
+    tracked = sorted((REPO / "bench" / "extremes" / "scenes").glob("*.nml"))
+    expected = {}
+    for v in bench.vehicles():
+        for s in bench.scenes_for(v):
+            if all(s.key in lv.not_for for lv in v.levels):
+                continue
+            expected[f"{v.key}__{s.key}.nml"] = bench.scene_deck_text(v, s)
+    assert sorted(p.name for p in tracked) == sorted(expected)
+    for p in tracked:
+        assert p.read_text() == expected[p.name], p.name
+
+
+def test_matrix_rows_classified(bench, build_dir, tmp_path, monkeypatch):
+    monkeypatch.setenv("RAILDYN_CACHE_DIR", str(tmp_path / "cache"))
+    lines = []
+    rows = bench.run_matrix(build_dir, tmp_path / "w", 1, "local", [], True,
+                            ["tgv_knife_edge:base:knife edge polach", "tgv_knife_edge:lift_off:knife edge polach"],
+                            600.0, 300, progress=lines.append)
+    by_scene = {r.scene: r for r in rows}
+    assert set(by_scene) == {"base", "lift_off"}, lines
+    ok, stop = by_scene["base"], by_scene["lift_off"]
+    assert (ok.outcome, ok.reason, ok.expected) == ("completed", "", True), lines
+    assert ok.steps > 0 and ok.rhs > 0 and ok.cpu > 0 and ok.t_reached == pytest.approx(0.7)
+    assert stop.outcome == "physics stop" and stop.expected, lines
+    assert "wheel lift-off" in stop.reason and 0.5 < stop.t_reached < 0.7, stop.reason
+    # the hang: a CPU-time limit the run cannot meet
+    rows = bench.run_matrix(build_dir, tmp_path / "h", 1, "local", [], True,
+                            ["manchester:base:strips 0.2 mm fastsim"], 600.0, 1, progress=lines.append)
+    assert len(rows) == 1 and rows[0].outcome == "FAILURE", lines
+    assert rows[0].reason.startswith("hang: still running at the CPU-time limit of 1 s"), rows[0].reason
+    assert not rows[0].expected
+
+
+def _run_folder(path: Path, exit_code: int, log: str = "") -> Path:
+    path.mkdir(parents=True)
+    (path / "status.json").write_text(json.dumps({"exit_code": exit_code}))
+    (path / "measure.json").write_text(json.dumps({"cpu": 1.0, "wall": 1.0, "timed_out": "", "limit": 60,
+                                                   "cpu_limit": 60, "exit": exit_code}))
+    (path / "log.txt").write_text(log)
+    return path
+
+
+def test_classifier_on_hand_made_runs(bench, tmp_path):
+    from conftest import write_layout_file
+    scene = bench.Scene("base", "straight", "straight", 8.0)
+    t = np.linspace(0.0, 1.0, 11)
+    y = np.zeros((11, 1))
+    series = {"bodies/ws1/position_track": (y, "m", "y", "lateral shift")}
+    meta = {"status": "completed", "end_time": 1.0}
+    solver = {"n_steps": np.int64(10), "n_rhs": np.int64(20), "n_rhs_jacobian": np.int64(5)}
+
+    good = _run_folder(tmp_path / "good", 0)
+    write_layout_file(good / "results.h5", t, series, meta_attrs=meta, solver=solver)
+    row = bench.classify(good, scene)
+    assert (row.outcome, row.steps, row.rhs, row.rhs_jac) == ("completed", 10, 20, 5)
+
+    bad = _run_folder(tmp_path / "nan", 0)
+    y_nan = y.copy()
+    y_nan[6, 0] = np.nan
+    write_layout_file(bad / "results.h5", t, {"bodies/ws1/position_track": (y_nan, "m", "y", "lateral shift")},
+                      meta_attrs=meta, solver=solver)
+    row = bench.classify(bad, scene)
+    assert row.outcome == "FAILURE" and "non-finite value at t = 0.6 s" in row.reason, row.reason
+
+    lost = _run_folder(tmp_path / "lost", 0)
+    write_layout_file(lost / "results.h5", t, series, solver=solver,
+                      meta_attrs={**meta, "notes": "wheelset w1 left wheel without contact in 10.0 % of 11 output "
+                                                   "samples (largest sampled Q 90.0 kN)"})
+    assert bench.classify(lost, scene).outcome == "FAILURE"
+    lift = bench.Scene("lift_off", "lift", "straight", 2.0, contact_loss_expected=True, expect="lift-off")
+    assert bench.classify(lost, lift).outcome == "completed"
+    assert not bench.classify(lost, lift).expected   # completed where a lift-off stop was due
+
+    solver_failure = _run_folder(tmp_path / "solver", 2, "raildyn: error: scene: integrator 'bdf' (CVODE BDF) "
+                                 "failed advancing to 1.0E-01 s (time reached 9.0E-02 s, last step h = 1.0E-12 s): "
+                                 "CV_CONV_FAILURE (flag -4): CVODE: ...; rhs at t = 9.0E-02 s: quasi-static normal "
+                                 "contact did not converge\n")
+    row = bench.classify(solver_failure, scene)
+    assert row.outcome == "FAILURE" and row.reason.startswith("solver failure (exit 2): bdf CV_CONV_FAILURE at t = 0.09 s")
+    stop = _run_folder(tmp_path / "stop", 3, "raildyn: error: scene: ...; rhs at t = 5.1E-01 s: multibody%rhs: "
+                       "wheelset contact 1, left wheel, t = 5.1E-01 s: derailment: contact point beyond the flange tip\n")
+    row = bench.classify(stop, bench.Scene("flange_climb", "climb", "r80_in", 2.0, expect="derailment"))
+    assert (row.outcome, row.expected) == ("physics stop", True) and row.reason.startswith("wheelset contact 1")
+    odd = _run_folder(tmp_path / "odd", 3, "raildyn: error: something else\n")
+    assert bench.classify(odd, scene).outcome == "FAILURE"
