@@ -22,8 +22,11 @@ The matrix is not the full factorial: one axis at a time around a base case (str
 - flange climb: R 80 m without cant, 2 m/s, friction 0.6, a lateral force of 120 kN on
   wheelset 1 towards the outer rail from 0.5 s (Nadal's limit at a 70 deg flange and mu 0.6 is
   Y/Q = 0.81: about 45 kN on a 55 kN wheel; the expected outcome is the derailment stop);
-- lift-off: straight, 2 m/s, a roll moment of 150 kN m on wheelset 1 from 0.5 s (unloading a
-  55 kN wheel at 0.75 m takes about 41 kN m; the expected outcome is the lift-off stop).
+- lift-off: straight, 2 m/s, a roll moment of 150 kN m on wheelset 1 from 0.5 s. It moves
+  M / (2 b) of load from one wheel to the other (contact points at b = 0.75 m), so it unloads a
+  wheel at 2 b Q: Manchester Q = 44 482 kg g / 8 = 54.5 kN, 82 kN m; TGV Q = 55 240 kg g / 8 =
+  67.7 kN, 102 kN m (measured on Manchester, tables: 60 kN m leaves the wheel 14.7 kN, 54.5 - 60 /
+  1.5 = 14.5 kN); the expected outcome is the lift-off stop.
 
 The curves at 8 and 15.66 m/s are entered from straight track through a 20 m transition and
 run until the trailing wheelset is 10 m into the curve (6.7 s at 8 m/s, 3.4 s at 15.66 m/s);
@@ -165,7 +168,7 @@ BASE_SPEED = 8.0
 PULSE = "&external_force body = 'ws1', frame = 'track', force = 0.0, 15700.0, 0.0, t_start = 0.1, t_end = 0.2 /"
 #: flange climb: towards the outer rail of a right-hand curve, the left one (+Y_T)
 CLIMB = "&external_force body = 'ws1', frame = 'track', force = 0.0, 120.0e3, 0.0, t_start = 0.5 /"
-#: lift-off: roll moment lifting the left wheel of wheelset 1
+#: lift-off: roll moment lifting the left wheel of wheelset 1 (1.5-1.8 times what unloads it)
 LIFT = "&external_force body = 'ws1', frame = 'track', moment = 150.0e3, 0.0, 0.0, t_start = 0.5 /"
 
 

@@ -6,8 +6,9 @@ and the classifier's verdict checked against what each run must give:
 - the TGV knife-edge vehicle on straight track at 8 m/s completes (exit 0, finite results, no
   contact loss);
 - the same vehicle with a 150 kN m roll moment on wheelset 1 from 0.5 s stops on the lift-off
-  limit (exit 3, reason "wheel lift-off"): unloading a wheel carrying about 60 kN at 0.75 m from
-  the centre takes about 45 kN m, so the wheel must lift, and 0.2 s is ample for 5 mm;
+  limit (exit 3, reason "wheel lift-off"): the moment moves M / (2 b) of load between the wheels
+  (b = 0.75 m), so 2 b Q = 1.5 m x 67.7 kN = 102 kN m unloads a wheel (Q = 55 240 kg g / 8); the
+  wheel must lift, and 0.2 s is ample for 5 mm;
 - a Manchester run on strips with a CPU-time limit of 1 s (it needs about 2.5 CPU s) is stopped
   by the wrapper and classified as a hang (FAILURE).
 
