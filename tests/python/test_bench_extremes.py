@@ -12,8 +12,10 @@ and the classifier's verdict checked against what each run must give:
 - a Manchester run on strips with a CPU-time limit of 1 s (it needs about 2.5 CPU s) is stopped
   by the wrapper and classified as a hang (FAILURE).
 
-And the classifier on results it did not write: a completed run whose results hold a NaN, and
-a solver failure (exit 2), are FAILUREs. Not timed: no CPU-second figure is asserted.
+And the classifier on results it did not write: a completed run whose results hold a NaN, a
+solver failure (exit 2) and an exit 3 without a documented reason are FAILUREs; a wheel without
+contact is "contact loss" (with the run's largest Y/Q) where no load asks for it, completed in
+the lift-off scene. Not timed: no CPU-second figure is asserted.
 """
 import importlib.util
 import json
@@ -103,10 +105,15 @@ def test_classifier_on_hand_made_runs(bench, tmp_path):
     assert row.outcome == "FAILURE" and "non-finite value at t = 0.6 s" in row.reason, row.reason
 
     lost = _run_folder(tmp_path / "lost", 0)
-    write_layout_file(lost / "results.h5", t, series, solver=solver,
-                      meta_attrs={**meta, "notes": "wheelset w1 left wheel without contact in 10.0 % of 11 output "
-                                                   "samples (largest sampled Q 90.0 kN)"})
-    assert bench.classify(lost, scene).outcome == "FAILURE"
+    yq = np.zeros((11, 2))
+    yq[3, 0] = 1.25
+    write_layout_file(lost / "results.h5", t,
+                      {**series, "wheelsets/w1/summary": (yq, "1 N", "derailment_quotient guiding_force_sum", "")},
+                      solver=solver, meta_attrs={**meta, "notes": "wheelset w1 left wheel without contact in 10.0 % "
+                                                                  "of 11 output samples (largest sampled Q 90.0 kN)"})
+    row = bench.classify(lost, scene)
+    assert (row.outcome, row.expected) == ("contact loss", False)
+    assert row.reason.startswith("largest Y/Q 1.25; wheelset w1 left wheel without contact"), row.reason
     lift = bench.Scene("lift_off", "lift", "straight", 2.0, contact_loss_expected=True, expect="lift-off")
     assert bench.classify(lost, lift).outcome == "completed"
     assert not bench.classify(lost, lift).expected   # completed where a lift-off stop was due
