@@ -131,6 +131,7 @@ MUTATIONS = {
     ("solver", "method"): ([], [("&solver", "method", "'rk4'")], False),
     ("solver", "rtol"): ([], [("&solver", "rtol", "1e-4")], False),
     ("solver", "atol"): ([], [("&solver", "atol", "1e-6")], False),
+    ("solver", "atol_velocity"): ([], [("&solver", "atol_velocity", "1e-4")], False),
     ("solver", "max_step"): ([], [("&solver", "max_step", "1e-4")], False),
     # a smallest step larger than the contact's stiffness allows: the integrator fails
     ("solver", "min_step"): ([], [("&solver", "min_step", "1e-4")], True),

@@ -93,6 +93,7 @@ module rd_multibody
     procedure :: rhs
     procedure :: evaluate_kinematics
     procedure :: free_slot
+    procedure :: absolute_tolerances
     procedure :: body_output_relative
     procedure :: body_output_fixed
     procedure :: element_output
@@ -248,6 +249,21 @@ contains
     integer, intent(in) :: ib, dof
     free_slot = self%free_index(dof, ib)
   end function free_slot
+
+  !> Per-component absolute tolerances of the state [q_f, nu_f, element states]: atol for the
+  !> coordinates (m, rad) and the element states (m), atol_velocity for their rates (m/s,
+  !> rad/s). One atol for both weighs a rate error of 1e-8 m/s like a displacement of 1e-8 m:
+  !> in a motion of amplitude A at angular frequency w the rate's amplitude is w A, so
+  !> atol_velocity = w_c atol asks for the same amplitude accuracy atol in both for motions at
+  !> w_c, and lets the displacements' test govern every slower motion
+  !> (docs/theory_solver.md "Tolerances").
+  pure function absolute_tolerances(self, atol, atol_velocity) result(tol)
+    class(multibody_t), intent(in) :: self
+    real(wp), intent(in) :: atol, atol_velocity
+    real(wp), allocatable :: tol(:)
+    allocate (tol(self%state_size()), source=atol)
+    tol(self%nfree + 1:2 * self%nfree) = atol_velocity
+  end function absolute_tolerances
 
   !> The initial state from the bodies' q0/qdot0 and the elements' initial states.
   subroutine initial_state(self, y, error)

@@ -59,6 +59,13 @@ contains
     self%solver%method = method
     call self%deck%get('solver', 1, 'rtol', self%solver%rtol, error); if (allocated(error)) return
     call self%deck%get('solver', 1, 'atol', self%solver%atol, error); if (allocated(error)) return
+    if (self%deck%given('solver', 1, 'atol_velocity')) then
+      block   ! rates in m/s and rad/s get their own tolerance (rd_multibody absolute_tolerances)
+        real(wp) :: atol_velocity
+        call self%deck%get('solver', 1, 'atol_velocity', atol_velocity, error); if (allocated(error)) return
+        self%solver%atol_vector = self%mbs%absolute_tolerances(self%solver%atol, atol_velocity)
+      end block
+    end if
     call self%deck%get('solver', 1, 'max_step', self%solver%max_step, error); if (allocated(error)) return
     call self%deck%get('solver', 1, 'min_step', self%solver%min_step, error); if (allocated(error)) return
     call self%deck%get('solver', 1, 'initial_step', self%solver%initial_step, error); if (allocated(error)) return

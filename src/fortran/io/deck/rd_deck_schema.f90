@@ -294,6 +294,9 @@ contains
                       min_open=.true., max_open=.true.), 'method', 'bdf|adams|erk'), &
       only_with(preal('atol', '-', 'absolute tolerance (state units)', default=1.0e-8_wp, min=zero, &
                       min_open=.true.), 'method', 'bdf|adams|erk'), &
+      only_with(preal('atol_velocity', '-', 'absolute tolerance of the velocity states (m/s, rad/s); ' // &
+                      'not given: atol (docs/theory_solver.md "Tolerances")', min=zero, min_open=.true.), &
+                'method', 'bdf|adams|erk'), &
       only_with(preal('max_step', 's', 'largest step; 0 = unlimited', default=zero, min=zero), &
                 'method', 'bdf|adams|erk'), &
       only_with(preal('min_step', 's', 'smallest step', default=zero, min=zero), 'method', 'bdf|adams|erk'), &
