@@ -50,20 +50,20 @@ contains
     mbs => scene%system()
     tol = mbs%absolute_tolerances(1.0e-8_wp, 3.0e-6_wp)
     n = mbs%state_size()
-    call check(size(tol) == n, 'layout: size differs from the state size')
+    call check(size(tol) == n, 'layout: one tolerance per state component')
     allocate (seen(n), source=.false.)
     do ib = 1, mbs%body_count()
       do dof = 1, 6
         slot = mbs%free_slot(ib, dof)
         if (slot == 0) cycle
-        call check(tol(slot) == 1.0e-8_wp, 'layout: a coordinate slot without atol')
-        call check(tol(mbs%nfree + slot) == 3.0e-6_wp, 'layout: a rate slot without atol_velocity')
+        call check(tol(slot) == 1.0e-8_wp, 'layout: a coordinate slot gets atol')
+        call check(tol(mbs%nfree + slot) == 3.0e-6_wp, 'layout: its rate slot (nfree + slot) gets atol_velocity')
         seen([slot, mbs%nfree + slot]) = .true.
       end do
     end do
-    call check(count(seen) == 2 * mbs%nfree, 'layout: not every coordinate and rate slot reached')
-    call check(n - 2 * mbs%nfree == 1, 'layout: expected one element state (the series yaw damper)')
-    call check(all(tol(2 * mbs%nfree + 1:) == 1.0e-8_wp), 'layout: an element state without atol')
+    call check(count(seen) == 2 * mbs%nfree, 'layout: every coordinate and rate slot reached through free_slot')
+    call check(n - 2 * mbs%nfree == 1, 'layout: one element state (the series yaw damper)')
+    call check(all(tol(2 * mbs%nfree + 1:) == 1.0e-8_wp), 'layout: the element state gets atol')
     call scene%destroy()
   end subroutine test_layout
 
@@ -79,9 +79,9 @@ contains
     write (*, '(a, 3i8)') 'TGV + yaw damper to 0.3 s, steps: scalar atol, atol_velocity = atol, = 100 atol: ', &
       st_scalar%steps, st_same%steps, st_loose%steps
     call check(all(y_same == y_scalar) .and. st_same%steps == st_scalar%steps, &
-               'atol_velocity = atol differs from the scalar tolerance')
-    call check(any(y_loose /= y_scalar), 'atol_velocity = 100 atol changes nothing: it does not reach the integrator')
-    call check(st_loose%steps < st_scalar%steps, 'atol_velocity = 100 atol does not take fewer steps')
+               'atol_velocity = atol: bit-identical to the scalar tolerance (state and steps)')
+    call check(any(y_loose /= y_scalar), 'atol_velocity = 100 atol changes the state: it reaches the integrator')
+    call check(st_loose%steps < st_scalar%steps, 'atol_velocity = 100 atol takes fewer steps')
     ! (c) errors in units of each run's own local tolerance
     allocate (tol_v(size(y_ref)), source=atol)
     tol_v(nfree + 1:2 * nfree) = 1.0e-6_wp
@@ -90,7 +90,7 @@ contains
     write (*, '(a, 2f9.3)') 'largest error / local tolerance vs rtol 1e-10: scalar atol, atol_velocity = 100 atol: ', &
       err_scalar, err_loose
     call check(err_loose <= 2.0_wp * err_scalar, &
-               'atol_velocity = 100 atol: less accurate in its own tolerance units than the scalar run')
+               'atol_velocity = 100 atol: within 2x the scalar run''s error, each in its own tolerance units')
   end subroutine test_runs
 
   subroutine run_to(tolerances, y, stats, nfree)
@@ -105,7 +105,7 @@ contains
     integer :: k
     text = tgv_text
     k = index(text, "&solver method = 'bdf'")
-    call check(k > 0, 'TGV deck: &solver line not found')
+    call check(k > 0, 'TGV deck: &solver line found')
     text = text(:k + 7) // "method = 'bdf', " // tolerances // " /" // &
            new_line('a') // '!' // text(k + 8:) // new_line('a')
     call scene%load_string(text, 'inputs', error)
