@@ -13,7 +13,7 @@ module rd_cmd_creep
   use rd_text, only: sci_text
   use rd_kinds, only: wp
   use rd_error, only: error_t
-  use rd_creep_law, only: creep_law_t, contact_patch_t, creepage_t, creep_force_t, creep_law_options_t, &
+  use rd_creep_law, only: creep_law_t, creep_patch_t, creepage_t, creep_force_t, creep_law_options_t, &
                           validate_patch
   use rd_creep_factory, only: make_creep_law
   implicit none
@@ -29,7 +29,7 @@ contains
   subroutine run_creep_command(args, status)
     character(len=*), intent(in) :: args(:)
     integer, intent(out) :: status
-    type(contact_patch_t) :: patch
+    type(creep_patch_t) :: patch
     type(creepage_t) :: creep
     type(creep_force_t) :: force
     type(creep_law_options_t) :: options

@@ -25,7 +25,7 @@ program bench_contact_mechanics
   class(creep_law_t), allocatable :: law
   type(creep_law_options_t) :: options
   type(error_t), allocatable :: error
-  type(contact_patch_t) :: patch
+  type(creep_patch_t) :: patch
   type(creep_force_t) :: force
   type(creepage_t) :: creep
   type(hertz_params_t) :: hp, hp_table
@@ -33,7 +33,7 @@ program bench_contact_mechanics
   real(wp) :: ns(n_laws), err(n_cols, n_laws), got(3), checksum, t_hertz(3)
   integer :: k, j
 
-  patch = contact_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
+  patch = creep_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
                           poisson=0.28_wp, friction=0.3_wp)
   checksum = 0.0_wp
   do k = 1, n_laws

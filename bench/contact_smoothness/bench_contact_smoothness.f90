@@ -48,7 +48,7 @@ program bench_contact_smoothness
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_wheelset_contact, only: wheelset_contact_t
   use rd_wheel_contact_result, only: wheel_result_t
-  use rd_creep_law, only: creep_law_t, contact_patch_t, creep_force_t, creepage_t
+  use rd_creep_law, only: creep_law_t, creep_patch_t, creep_force_t, creepage_t
   use rd_creep_factory, only: make_creep_law
   use rd_sweep_smoothness, only: smoothness_feature_t, find_jumps_and_kinks, FEATURE_JUMP, FEATURE_KINK
   implicit none
@@ -120,7 +120,7 @@ program bench_contact_smoothness
   character(len=240), allocatable :: extra_pose(:), extra_creep(:)
   character(len=240), allocatable :: all_pose(:), all_creep(:)
   type(wheelset_contact_spec_t) :: reference_spec
-  type(contact_patch_t) :: patch
+  type(creep_patch_t) :: patch
   real(wp) :: delta0, t_start, t_end
   integer :: csv_unit, k
 
@@ -308,7 +308,7 @@ contains
   subroutine static_approach(spec, delta, p)
     type(wheelset_contact_spec_t), intent(in) :: spec
     real(wp), intent(out) :: delta
-    type(contact_patch_t), intent(out) :: p
+    type(creep_patch_t), intent(out) :: p
     type(wheelset_contact_t) :: ws
     type(error_t), allocatable :: error
     real(wp) :: z, phi, lo, hi, out(n_pose_out)
@@ -611,7 +611,7 @@ contains
     type(sweep_t) :: sweeps(nsweep)
     type(output_t) :: outs(n_creep_out)
     type(creep_force_t) :: cf
-    type(contact_patch_t) :: p
+    type(creep_patch_t) :: p
     character(len=400), allocatable :: rows(:, :)
     real(wp) :: c(3)
     integer :: lv, i, sw

@@ -7,7 +7,7 @@ module rd_capi_calculators
   use rd_kinds, only: wp
   use rd_error, only: error_t, RD_OK, RD_ERR_INPUT
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_init, hertz_from_force, hertz_from_penetration
-  use rd_creep_law, only: creep_law_t, contact_patch_t, creepage_t, creep_force_t, creep_law_options_t, &
+  use rd_creep_law, only: creep_law_t, creep_patch_t, creepage_t, creep_force_t, creep_law_options_t, &
                           validate_patch
   use rd_creep_factory, only: make_creep_law
   implicit none
@@ -79,7 +79,7 @@ contains
     integer(c_int) :: status
     character(kind=c_char), pointer :: law(:)
     character(len=max_name) :: name
-    type(contact_patch_t) :: patch
+    type(creep_patch_t) :: patch
     type(creepage_t) :: creep
     type(creep_force_t) :: force
     type(creep_law_options_t) :: options
@@ -95,7 +95,7 @@ contains
       name(i:i) = law(i)
     end do
     if (i > max_name) return                  ! not a terminated short name
-    patch = contact_patch_t(a=a, b=b, normal_force=normal_force, shear_modulus=g, poisson=nu, friction=mu)
+    patch = creep_patch_t(a=a, b=b, normal_force=normal_force, shear_modulus=g, poisson=nu, friction=mu)
     creep%xi = xi; creep%eta = eta; creep%phi = phi
     call validate_patch(patch, creep, error)
     if (allocated(error)) return

@@ -5,7 +5,7 @@ module rd_contact_patch
   use rd_kinds, only: wp
   implicit none
   private
-  public :: contact_patch_t, wheel_contact_t, MAX_PATCHES
+  public :: patch_geometry_t, wheel_contact_t, MAX_PATCHES
   public :: PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK, PATCH_FLANGE_SPRING, patch_kind_name
   public :: mirror_wheel_contact
 
@@ -18,7 +18,10 @@ module rd_contact_patch
   !> beyond the clearance, to be used with a lateral stiffness, curvatures are zero.
   integer, parameter :: PATCH_FLANGE_SPRING = 4
 
-  type :: contact_patch_t
+  !> One patch as the contact geometry finds it. Its path: Hertz gives its ellipse and load
+  !> (rd_hertz hertz_patch_t), a creep law reads creep_patch_t (rd_creep_law), and the
+  !> results file gets patch_result_t (rd_wheel_contact_result).
+  type :: patch_geometry_t
     integer :: kind = PATCH_TREAD
     real(wp) :: penetration = 0       !< [m] > 0 in contact, normal to the wheel surface
     real(wp) :: point_rail(3) = 0     !< contact point on the rail, track frame [m]
@@ -40,11 +43,11 @@ module rd_contact_patch
     !> this fraction of the forces of the bump it describes; its penetration is
     !> share^(2/3) times the bump's (so that Hertz gives share times the bump's normal force).
     real(wp) :: share = 1
-  end type contact_patch_t
+  end type patch_geometry_t
 
   type :: wheel_contact_t
     integer :: n_patches = 0
-    type(contact_patch_t) :: patch(MAX_PATCHES)
+    type(patch_geometry_t) :: patch(MAX_PATCHES)
     !> largest signed penetration over all strips [m]: < 0 is minus the smallest gap
     !> (used by the rigid-contact search); equals the deepest patch's penetration in contact.
     real(wp) :: max_penetration = -huge(1.0_wp)

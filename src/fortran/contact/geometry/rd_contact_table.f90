@@ -33,7 +33,7 @@ module rd_contact_table
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME
   use rd_text, only: sci_text
   use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t
-  use rd_contact_patch, only: contact_patch_t, wheel_contact_t, PATCH_TREAD, PATCH_FLANGE
+  use rd_contact_patch, only: patch_geometry_t, wheel_contact_t, PATCH_TREAD, PATCH_FLANGE
   use rd_strip_contact, only: strip_wheel_contact
   implicit none
   private

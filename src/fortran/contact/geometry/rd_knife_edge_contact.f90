@@ -16,7 +16,7 @@
 !> |y| - clearance, normal horizontal, for a linear lateral stiffness in the normal model.
 module rd_knife_edge_contact
   use rd_kinds, only: wp, pi
-  use rd_contact_patch, only: contact_patch_t, wheel_contact_t, PATCH_TREAD, PATCH_FLANGE_SPRING
+  use rd_contact_patch, only: patch_geometry_t, wheel_contact_t, PATCH_TREAD, PATCH_FLANGE_SPRING
   use rd_line_cone, only: line_cone_max_depth
   implicit none
   private
@@ -39,7 +39,7 @@ contains
     type(wheel_contact_t), intent(out) :: res
     real(wp) :: bt(3, 3), d(3), a, cp, sp, cs, ss, p0(3), t0, rho, py0, tau, dep, k, pw(3), rr, nloc(3), n(3), er(3)
     logical :: found
-    type(contact_patch_t) :: p
+    type(patch_geometry_t) :: p
 
     cp = cos(phi); sp = sin(phi); cs = cos(psi); ss = sin(psi)
     bt(1, :) = [cs, ss, 0.0_wp]
@@ -82,7 +82,7 @@ contains
       res%patch(1) = p
     end if
     if (knife%flange_clearance > 0 .and. y > knife%flange_clearance) then
-      p = contact_patch_t()
+      p = patch_geometry_t()
       p%kind = PATCH_FLANGE_SPRING
       p%penetration = y - knife%flange_clearance
       p%point_rail = [0.0_wp, knife%e0, 0.0_wp]

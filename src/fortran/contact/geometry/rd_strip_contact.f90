@@ -11,7 +11,7 @@
 module rd_strip_contact
   use rd_kinds, only: wp
   use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t, locate
-  use rd_contact_patch, only: contact_patch_t, wheel_contact_t, MAX_PATCHES, &
+  use rd_contact_patch, only: patch_geometry_t, wheel_contact_t, MAX_PATCHES, &
     PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
   use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
   implicit none
@@ -180,7 +180,7 @@ contains
     pure subroutine split_run(i1, i2, np, patch)
       integer, intent(in) :: i1, i2
       integer, intent(inout) :: np
-      type(contact_patch_t), intent(inout) :: patch(:)
+      type(patch_geometry_t), intent(inout) :: patch(:)
       integer, parameter :: stack_size = 32
       integer :: lo(stack_size), hi(stack_size), top, a, b, kv, k, kc
       real(wp) :: share(stack_size), wn, v, pmax, lambda
@@ -233,7 +233,7 @@ contains
       integer, intent(in) :: a, b, kc, r1, r2
       real(wp), intent(in) :: wn
       integer, intent(inout) :: np
-      type(contact_patch_t), intent(inout) :: patch(:)
+      type(patch_geometry_t), intent(inout) :: patch(:)
       real(wp) :: pen
       integer :: iw
       pen = wn**(2.0_wp / 3.0_wp) * refined_peak(delta, kc, ilo, ihi)
@@ -348,7 +348,7 @@ contains
 
     !> Patch over the stretch a..b (peak strip kc) of the run r1..r2, penetration pen.
     pure subroutine fill_patch(p, a, b, kc, pen, r1, r2)
-      type(contact_patch_t), intent(out) :: p
+      type(patch_geometry_t), intent(out) :: p
       integer, intent(in) :: a, b, kc, r1, r2
       real(wp), intent(in) :: pen
       real(wp) :: x, w, wl, slope, rr, nrm, te, tx, thr, wsum, qsum, tm1, tm2, krsum, kwsum

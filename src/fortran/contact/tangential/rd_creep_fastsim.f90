@@ -26,7 +26,7 @@
 module rd_creep_fastsim
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
-  use rd_creep_law, only: creep_law_t, contact_patch_t, creepage_t, creep_force_t, &
+  use rd_creep_law, only: creep_law_t, creep_patch_t, creepage_t, creep_force_t, &
                           creep_law_options_t, patch_is_loaded
   use rd_kalker_coefficients, only: kalker_coefficients
   implicit none
@@ -77,7 +77,7 @@ contains
 
   pure subroutine fastsim_compute(self, patch, creep, force)
     class(creep_fastsim_t), intent(in) :: self
-    type(contact_patch_t), intent(in) :: patch
+    type(creep_patch_t), intent(in) :: patch
     type(creepage_t), intent(in) :: creep
     type(creep_force_t), intent(out) :: force
     ! Strips are independent: they are marched side by side in blocks of `lanes`, so the

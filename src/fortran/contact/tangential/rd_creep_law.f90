@@ -12,11 +12,12 @@ module rd_creep_law
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
-  public :: creep_law_t, contact_patch_t, creep_force_t, creepage_t, creep_law_options_t
+  public :: creep_law_t, creep_patch_t, creep_force_t, creepage_t, creep_law_options_t
   public :: patch_is_loaded, validate_patch
 
-  !> Plain data of one contact patch.
-  type :: contact_patch_t
+  !> A contact patch as a creep law sees it: ellipse, load, material, friction, speed (one
+  !> patch's path through the types: rd_contact_patch).
+  type :: creep_patch_t
     real(wp) :: a = 0.0_wp               !< semi-axis along the rolling direction x_c [m]
     real(wp) :: b = 0.0_wp               !< semi-axis along the lateral direction y_c [m]
     real(wp) :: normal_force = 0.0_wp    !< N [N]
@@ -24,7 +25,7 @@ module rd_creep_law
     real(wp) :: poisson = 0.28_wp        !< combined nu [-]
     real(wp) :: friction = 0.3_wp        !< (static) friction coefficient mu [-]
     real(wp) :: rolling_speed = 0.0_wp   !< V_ref [m/s]; only laws with slip-velocity friction use it
-  end type contact_patch_t
+  end type creep_patch_t
 
   !> Creep forces on the wheel, contact frame.
   type :: creep_force_t
@@ -54,9 +55,9 @@ module rd_creep_law
 
   abstract interface
     pure subroutine compute_interface(self, patch, creep, force)
-      import :: creep_law_t, contact_patch_t, creepage_t, creep_force_t
+      import :: creep_law_t, creep_patch_t, creepage_t, creep_force_t
       class(creep_law_t), intent(in) :: self
-      type(contact_patch_t), intent(in) :: patch
+      type(creep_patch_t), intent(in) :: patch
       type(creepage_t), intent(in) :: creep
       type(creep_force_t), intent(out) :: force
     end subroutine compute_interface
@@ -72,14 +73,14 @@ contains
 
   !> True when the patch carries load (a, b, N, G > 0, mu >= 0); laws return zero otherwise.
   elemental logical function patch_is_loaded(patch)
-    type(contact_patch_t), intent(in) :: patch
+    type(creep_patch_t), intent(in) :: patch
     patch_is_loaded = patch%a > 0.0_wp .and. patch%b > 0.0_wp .and. patch%normal_force > 0.0_wp &
                       .and. patch%shear_modulus > 0.0_wp .and. patch%friction >= 0.0_wp
   end function patch_is_loaded
 
   !> Check user-supplied patch data (calculators, decks); one clear message on failure.
   pure subroutine validate_patch(patch, creep, error)
-    type(contact_patch_t), intent(in) :: patch
+    type(creep_patch_t), intent(in) :: patch
     type(creepage_t), intent(in) :: creep
     type(error_t), allocatable, intent(out) :: error
     real(wp) :: v(10)

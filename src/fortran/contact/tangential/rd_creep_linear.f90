@@ -9,7 +9,7 @@
 module rd_creep_linear
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
-  use rd_creep_law, only: creep_law_t, contact_patch_t, creepage_t, creep_force_t, &
+  use rd_creep_law, only: creep_law_t, creep_patch_t, creepage_t, creep_force_t, &
                           creep_law_options_t, patch_is_loaded
   use rd_kalker_coefficients, only: kalker_coefficients
   implicit none
@@ -45,7 +45,7 @@ contains
 
   pure subroutine linear_compute(self, patch, creep, force)
     class(creep_linear_t), intent(in) :: self
-    type(contact_patch_t), intent(in) :: patch
+    type(creep_patch_t), intent(in) :: patch
     type(creepage_t), intent(in) :: creep
     type(creep_force_t), intent(out) :: force
     real(wp) :: f, limit
@@ -62,7 +62,7 @@ contains
 
   !> The unsaturated linear forces (also used by FASTSIM's and Polach's references).
   pure subroutine linear_creep_forces(patch, creep, force)
-    type(contact_patch_t), intent(in) :: patch
+    type(creep_patch_t), intent(in) :: patch
     type(creepage_t), intent(in) :: creep
     type(creep_force_t), intent(out) :: force
     real(wp) :: c11, c22, c23, c33, gab, sqrt_ab

@@ -23,7 +23,7 @@
 module rd_creep_polach
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
-  use rd_creep_law, only: creep_law_t, contact_patch_t, creepage_t, creep_force_t, &
+  use rd_creep_law, only: creep_law_t, creep_patch_t, creepage_t, creep_force_t, &
                           creep_law_options_t, patch_is_loaded
   use rd_kalker_coefficients, only: kalker_coefficients
   implicit none
@@ -66,7 +66,7 @@ contains
 
   pure subroutine polach_compute(self, patch, creep, force)
     class(creep_polach_t), intent(in) :: self
-    type(contact_patch_t), intent(in) :: patch
+    type(creep_patch_t), intent(in) :: patch
     type(creepage_t), intent(in) :: creep
     type(creep_force_t), intent(out) :: force
     type(creep_force_t) :: linear

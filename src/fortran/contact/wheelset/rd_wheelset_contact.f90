@@ -29,12 +29,12 @@ module rd_wheelset_contact
   use rd_rotation, only: cross
   use rd_body_kinematics, only: body_kinematics_t
   use rd_force_provider, only: force_provider_t, body_load_t
-  use rd_contact_patch, only: contact_patch_t, wheel_contact_t, PATCH_FLANGE_SPRING
+  use rd_contact_patch, only: patch_geometry_t, wheel_contact_t, PATCH_FLANGE_SPRING
   use rd_contact_geometry, only: contact_geometry_t, wheelset_contact, CONTACT_MODEL_STRIP, CONTACT_MODEL_TABLE, &
     SIDE_LEFT, SIDE_RIGHT
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration, hertz_damped_force
   use rd_creepage, only: creepage_t, creepages_from_velocities
-  use rd_creep_law, only: creep_law_t, creep_force_t, creep_patch_t => contact_patch_t
+  use rd_creep_law, only: creep_law_t, creep_force_t, creep_patch_t
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, validate_wheelset_contact_spec, &
     build_contact_geometry, build_hertz_params, build_creep_law, flange_tip_coordinate, &
     field_end_coordinate

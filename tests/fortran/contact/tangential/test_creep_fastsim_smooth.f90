@@ -24,7 +24,7 @@ program test_creep_fastsim_smooth
   type(creep_law_options_t) :: options
   class(creep_law_t), allocatable :: classic, smooth
   type(error_t), allocatable :: error
-  type(contact_patch_t) :: patch
+  type(creep_patch_t) :: patch
   type(creep_force_t) :: fc, fs
   type(smoothness_feature_t), allocatable :: feat(:)
   real(wp) :: x(n_sweep), f(n_sweep, 4), fx, fy, mz, err_c, err_s
@@ -42,7 +42,7 @@ program test_creep_fastsim_smooth
   print '(a)', 'laws: ' // classic%name() // ' | ' // smooth%name()
 
   ! --- 1. smoothness along a creepage sweep
-  patch = contact_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
+  patch = creep_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
                           poisson=0.28_wp, friction=0.3_wp)
   do i = 1, n_sweep
     x(i) = 4.0e-3_wp * (i - 1) / (n_sweep - 1)
@@ -69,7 +69,7 @@ program test_creep_fastsim_smooth
     call compare('CONTACT row', i)
   end do
   do i = 1, scene_patch_count
-    patch = contact_patch_t(a=scene(1, i), b=scene(2, i), normal_force=scene(3, i), shear_modulus=8.4e10_wp, &
+    patch = creep_patch_t(a=scene(1, i), b=scene(2, i), normal_force=scene(3, i), shear_modulus=8.4e10_wp, &
                             poisson=0.25_wp, friction=0.45_wp)
     call kalker_exact_forces(patch%a, patch%b, patch%normal_force, patch%shear_modulus, patch%poisson, &
                              patch%friction, scene(4, i), scene(5, i), scene(6, i), scene_grid(1, i), &
@@ -80,7 +80,7 @@ program test_creep_fastsim_smooth
   end do
 
   ! --- 3. unchanged outside the band: linear range and full slip
-  patch = contact_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
+  patch = creep_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
                           poisson=0.28_wp, friction=0.3_wp)
   call classic%compute(patch, creepage_t(1.0e-7_wp, 1.0e-7_wp, 0.0_wp), fc)
   call smooth%compute(patch, creepage_t(1.0e-7_wp, 1.0e-7_wp, 0.0_wp), fs)

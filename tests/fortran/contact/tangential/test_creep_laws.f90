@@ -10,7 +10,7 @@ program test_creep_laws
   use rd_kalker_coefficients, only: kalker_coefficients
   use rd_test_support, only: check_close, fail, test_summary
   implicit none
-  type(contact_patch_t) :: patch
+  type(creep_patch_t) :: patch
   type(creep_law_options_t) :: options
   class(creep_law_t), allocatable :: linear, linear_she, fastsim, fastsim_coarse, polach, law
   type(error_t), allocatable :: error
@@ -34,7 +34,7 @@ program test_creep_laws
     -92.80_wp, 0.0_wp, 0.0_wp, -7454.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, -7001.0_wp, 8.086_wp, &
     0.0_wp, -1989.0_wp, -3.337_wp], [3, 4])
 
-  patch = contact_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
+  patch = creep_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
                           poisson=0.28_wp, friction=0.3_wp)
   lim = patch%friction * patch%normal_force
 

@@ -34,7 +34,7 @@ program test_creep_spin_exact
   type(creep_law_options_t) :: options
   class(creep_law_t), allocatable :: fastsim, polach
   type(error_t), allocatable :: error
-  type(contact_patch_t) :: patch
+  type(creep_patch_t) :: patch
   type(creep_force_t) :: f_fast, f_pol
   real(wp) :: fx, fy, mz, c11, c22, c23, c33, expected
   integer :: i
@@ -65,7 +65,7 @@ program test_creep_spin_exact
   if (allocated(error)) error stop 1
   call make_creep_law('fastsim', options, fastsim, error)
   if (allocated(error)) error stop 1
-  patch = contact_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
+  patch = creep_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
                           poisson=0.28_wp, friction=0.3_wp)
   call kalker_coefficients(patch%a / patch%b, patch%poisson, c11, c22, c23, c33)
   expected = -patch%shear_modulus * patch%a * patch%b * c11 * 1.0e-7_wp
@@ -78,7 +78,7 @@ program test_creep_spin_exact
   ! --- 3. the scene's patches
   print '(a)', 'patch                      |  exact Fx, Fy [N]   |  FASTSIM 10x10       |  Polach'
   do i = 1, scene_patch_count
-    patch = contact_patch_t(a=scene(1, i), b=scene(2, i), normal_force=scene(3, i), shear_modulus=8.4e10_wp, &
+    patch = creep_patch_t(a=scene(1, i), b=scene(2, i), normal_force=scene(3, i), shear_modulus=8.4e10_wp, &
                             poisson=0.25_wp, friction=0.45_wp)
     call kalker_exact_forces(patch%a, patch%b, patch%normal_force, patch%shear_modulus, patch%poisson, &
                              patch%friction, scene(4, i), scene(5, i), scene(6, i), scene_grid(1, i), &

@@ -50,7 +50,7 @@ contains
     integer :: unit, ios, case_id, ncon, counted, longest, first, last, k, row_count, step
     character(len=256) :: rest
     real(wp) :: chi, dq, veloc, cksi, ceta, cphi, fn, fx, fs, delta_cp, dum(4)
-    type(contact_patch_t) :: patch
+    type(creep_patch_t) :: patch
     type(creepage_t) :: creep
     type(creep_force_t) :: f_fast, f_pol
     real(wp) :: ref, rel_fast, rel_pol

@@ -13,7 +13,7 @@ program test_wheelset_spin_option
   use rd_body_kinematics, only: body_kinematics_t
   use rd_rigid_contact, only: rigid_contact
   use rd_creepage, only: creepage_t
-  use rd_creep_law, only: creep_law_t, contact_patch_t, creep_force_t, creep_law_options_t
+  use rd_creep_law, only: creep_law_t, creep_patch_t, creep_force_t, creep_law_options_t
   use rd_creep_factory, only: make_creep_law
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_wheelset_contact, only: wheelset_contact_t
@@ -27,7 +27,7 @@ program test_wheelset_spin_option
   type(circle_track_t) :: straight
   type(body_kinematics_t) :: kin
   class(creep_law_t), allocatable :: law
-  type(contact_patch_t) :: cp
+  type(creep_patch_t) :: cp
   type(creep_force_t) :: with_spin, without_spin
   real(wp) :: z, phi, f(3), m(3), tol
   integer :: i, side
@@ -61,9 +61,9 @@ program test_wheelset_spin_option
                  'one patch per wheel')
       call check(abs(p1%spin) > 0.1_wp .and. abs(p2%spin - p1%spin) <= 1.0e-12_wp * abs(p1%spin), &
                  'the spin creepage is computed and reported with and without the option')
-      cp = contact_patch_t(a=p1%a, b=p1%b, normal_force=p1%normal_force, friction=0.3_wp, rolling_speed=p1%v_ref)
+      cp = creep_patch_t(a=p1%a, b=p1%b, normal_force=p1%normal_force, friction=0.3_wp, rolling_speed=p1%v_ref)
       call law%compute(cp, creepage_t(xi=p1%xi, eta=p1%eta, phi=p1%spin, v_ref=p1%v_ref), with_spin)
-      cp = contact_patch_t(a=p2%a, b=p2%b, normal_force=p2%normal_force, friction=0.3_wp, rolling_speed=p2%v_ref)
+      cp = creep_patch_t(a=p2%a, b=p2%b, normal_force=p2%normal_force, friction=0.3_wp, rolling_speed=p2%v_ref)
       call law%compute(cp, creepage_t(xi=p2%xi, eta=p2%eta, phi=0.0_wp, v_ref=p2%v_ref), without_spin)
       tol = 1.0e-9_wp * 0.3_wp * p1%normal_force
       write (*, '(a,i2,a,3es13.5,a,3es13.5)') 'side', side, ': Fx Fy spin(default) ', p1%fx, p1%fy, p1%spin, &
