@@ -1,4 +1,4 @@
-"""One test per validation case (python/raildyn/validation.py, docs/validation.md): run the
+"""One test per validation case (python/raildyn/validation/, docs/validation.md): run the
 scene with the runner and apply the case's comparison and acceptance rule, so that CI fails
 when the physics regresses. Markers: `validation` plus the case name (pytest.ini).
 

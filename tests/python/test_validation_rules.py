@@ -137,7 +137,7 @@ def _no_repository_bands(tmp_path, monkeypatch):
     """The synthetic runs here test the rules; the repository's frozen baselines and reference
     curves (validation/baselines, validation/curves) belong to the real runs of
     test_validation_cases.py and would judge these made-up histories."""
-    monkeypatch.setattr(V, "BANDS", tmp_path / "no_bands")
+    monkeypatch.setattr(V.references, "BANDS", tmp_path / "no_bands")
 
 
 def test_repository_baselines_are_readable():
@@ -733,7 +733,7 @@ def test_critical_speed_bisection_on_synthetic_runs(tmp_path, monkeypatch, make_
         make_results_file(Path(results).relative_to(tmp_path), t, series, meta_attrs={"status": "completed"})
         return V.RunInfo(Path(results), 0, 0.0, "")
 
-    monkeypatch.setattr(V, "run_deck", fake_run)
+    monkeypatch.setattr(V.runs, "run_deck", fake_run)
     res = V.run_case("tgv_bogie_critical_speed", out)
     assert res.passed, res.summary()
     vc = res.checks[0].value

@@ -1,0 +1,54 @@
+"""Validation harness: runs the validation scenes, compares them with published and expected
+behaviour, writes a self-contained HTML report.
+
+    python -m raildyn.validation [run] [--cases NAME ...] [--reuse] [--out DIR] [--exe PATH]
+                                 [--results CASE=FILE ...]
+    python -m raildyn.validation list
+    python -m raildyn.validation freeze CASE [--channels CH ...] [--rel 0.02] [--abs 1e-6]
+
+Cases (``CASES``): a deck in ``inputs/``, what to extract from its results, the comparison
+and its acceptance rule. Reference data and thresholds live in ``validation/`` (CSV files
+with their provenance in header comments):
+
+- ``validation/manchester_v1_tc1/packages.csv``: thesis tables 5.9-5.11 as printed,
+  ``corrections.csv``: documented digit slips. Acceptance: ``manchester_acceptance``.
+- ``validation/tgv_checks.csv``: the TGV 001 expectations with thresholds and justification;
+  the ``kind`` column names the check function in ``CHECK_KINDS``.
+- ``validation/curves/<case>/*.csv``: optional reference curves with tolerance bands
+  (columns time, value, lower, upper; the channel in a ``# channel:`` header line).
+- ``validation/baselines/<case>.csv``: frozen approved runs of our own (``freeze``), compared
+  at every later run of the case.
+
+Runs use the runner (``<build>/bin/raildyn run DECK -o OUT``), read results with
+``raildyn.Results``; everything is SI and follows docs/conventions.md. See
+docs/validation.md for the cases, rules and how to add one.
+
+Modules: ``core`` (what a case reports), ``references`` (reference data), ``signals``, ``runs``
+(decks, running a deck, the evaluation context), ``manchester``, ``planar`` (the independent
+linear models), ``tgv``, ``cases`` (the registry, running a case), ``cli``.
+"""
+from .core import INPUTS, REPO, VALIDATION, CaseError, CaseResult, Check, Table, read_commented_csv
+from .references import (PACKAGES, SI_UNIT, UNIT_SCALE, PackageEntry, freeze_baseline, load_package_table,
+                         load_tgv_checks, read_band_csv)
+from .signals import compare_band_curve, growth_rate, half_cycle_peaks, oscillation_wavelength, window_mask, window_mean
+from .runs import (CHANNEL_ALIASES, DEFAULT_RUN_TIMEOUT, Case, Context, RunInfo, deck_assumptions, deck_files,
+                   deck_sha256, deck_wheelsets, find_executable, resolve_channel, run_deck, run_notes, run_timeout)
+from .manchester import (MANCHESTER_MAX_OFF_PERCENT, MANCHESTER_MIN_INSIDE, MANCHESTER_SIGMA_WINDOW,
+                         MANCHESTER_WIDEN, AcceptanceOutcome, BandVerdict, band_verdict, check_manchester_quiet,
+                         evaluate_manchester, evaluate_manchester_quiet, family_scales, manchester_acceptance,
+                         manchester_window, manchester_window_times, manchester_window_values)
+from .planar import (PLANAR_WHEELSETS, STANDARD_GRAVITY, TGV_BOGIE, TGV_CURVE, TGV_PRIMARY_VERTICAL,
+                     TGV_SECONDARY_CY, TGV_VEHICLE, TGV_WHEELSET_IYY, TGV_YAW_INERTIA, KnifeEdgeContact,
+                     PlanarBody, PlanarSpring, knife_edge_wheelset_terms, lateral_stability, linear_critical_speed,
+                     steady_curving, steady_curving_bogie, tgv_planar_model)
+from .tgv import (CHECK_KINDS, CRITICAL_SPEED_BRACKET, CRITICAL_SPEED_RESOLUTION, CRITICAL_SPEED_T_END,
+                  TGV_OUTWARD_SIGN, critical_speed_bisection, evaluate_tgv, fastsim_reference,
+                  identify_knife_edge_contact)
+from .cases import CASES, run_case, run_cases
+from .cli import main
+from ..results import Results
+
+__all__ = ["CASES", "Case", "CaseResult", "Check", "band_verdict", "family_scales", "manchester_acceptance",
+           "load_package_table", "half_cycle_peaks", "growth_rate", "oscillation_wavelength",
+           "window_mean", "run_case", "run_cases", "freeze_baseline", "compare_band_curve",
+           "read_band_csv", "deck_assumptions", "deck_files", "run_notes", "main"]
