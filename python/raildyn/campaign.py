@@ -96,9 +96,11 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .executable import ExecutableNotFound, find_raildyn_executable
+from .executable import ExecutableNotFound, find_raildyn_executable, run_deck
 from .results import Results
 from .results_window import write_rows
+# the growth-rate estimator is raildyn critical-speed's and the validation harness's
+from .stability import StabilityError, growth_rate
 
 KEY_RE = re.compile(r"^(?P<group>[a-z_]+)(\[(?P<name>[^\]]+)\])?\.(?P<param>[a-z_0-9]+)$")
 REDUCTIONS = ("max", "min", "mean", "max_abs", "rms", "final", "growth_rate")
@@ -384,16 +386,18 @@ def _run_runner(exe: Path, run: Path) -> int | None:
     reaches the runs too: one killed by SIGINT is not a failed run)."""
     if _interrupted.is_set():
         return None
-    with open(run / "log.txt", "w") as log:
-        proc = subprocess.Popen([str(exe), "run", "deck.nml", "-o", "results.h5", "--quiet"],
-                                cwd=run, stdout=log, stderr=subprocess.STDOUT)
+    procs: list[subprocess.Popen] = []
+
+    def track(proc: subprocess.Popen) -> None:
         with _running_lock:
             _running.add(proc)
+        procs.append(proc)
+    with open(run / "log.txt", "w") as log:
         try:
-            code = proc.wait()
+            code = run_deck(exe, "deck.nml", "results.h5", quiet=True, cwd=run, log=log, started=track).returncode
         finally:
             with _running_lock:
-                _running.discard(proc)
+                _running.difference_update(procs)
     return None if _interrupted.is_set() or code == -signal.SIGINT else code
 
 
@@ -492,26 +496,14 @@ def reduce_channel(t: np.ndarray, y: np.ndarray, how: str,
     if how == "final":
         return float(y[-1])
     if how == "growth_rate":
-        return growth_rate(t, y)
+        # the envelope of the oscillation about the signal's mean, every half-cycle peak
+        # counted (floor 0); fewer than 3 peaks: no oscillation, no rate
+        try:
+            rate, peaks = growth_rate(t, y - np.mean(y), floor=0.0)
+        except StabilityError:
+            return float("nan")
+        return rate if peaks else float("nan")
     raise CampaignError(f"unknown reduction {how!r}")
-
-
-def growth_rate(t: np.ndarray, y: np.ndarray) -> float:
-    """Exponential growth rate [1/s] of an oscillation's envelope: a least-squares line
-    through log |peak| of the complete half-cycles about the signal's mean (> 0 grows,
-    < 0 decays). The incomplete half-cycles at both ends are left out."""
-    t = np.asarray(t, float)
-    y = np.asarray(y, float)
-    y = y - np.mean(y)
-    crossings = np.nonzero(np.sign(y[1:]) * np.sign(y[:-1]) < 0)[0] + 1
-    if len(crossings) < 4:
-        return float("nan")
-    idx = [a + int(np.argmax(np.abs(y[a:b]))) for a, b in zip(crossings[:-1], crossings[1:])]
-    tp, yp = t[idx], np.abs(y[idx])
-    keep = yp > 0
-    if keep.sum() < 3:
-        return float("nan")
-    return float(np.polyfit(tp[keep], np.log(yp[keep]), 1)[0])
 
 
 def _window_rows(campaign: Campaign, m: Metric, res: Results, path: Path) -> np.ndarray | None:

@@ -1,8 +1,9 @@
-"""Where the `raildyn` runner is: the one lookup shared by the validation harness and the
-campaigns."""
+"""Where the `raildyn` runner is and how a deck is run: the one lookup and the one run shared
+by the validation harness and the campaigns."""
 from __future__ import annotations
 
 import os
+import subprocess
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
@@ -39,3 +40,26 @@ def find_raildyn_executable(exe: str | os.PathLike | None = None, given_as: str 
             return c
     raise ExecutableNotFound("raildyn executable not found (tried " + ", ".join(map(str, cands)) +
                              f"); build it, set RAILDYN_BUILD_DIR or give {given_as}")
+
+
+def run_deck(exe: str | os.PathLike, deck: str | os.PathLike, results: str | os.PathLike, *, quiet: bool = False,
+             cwd: str | os.PathLike | None = None, log=None, timeout: float | None = None,
+             started=None) -> subprocess.CompletedProcess:
+    """``raildyn run DECK -o RESULTS [--quiet]`` in ``cwd``: the one way Python runs a deck.
+    Its output goes to the open file ``log`` (stdout and stderr interleaved) or is captured
+    (the answer's ``stdout`` and ``stderr``); ``started(proc)`` gets the running process (the
+    campaigns stop their runs on Ctrl-C). Past ``timeout`` seconds the run is killed and
+    subprocess.TimeoutExpired raised, as subprocess.run does. Exit statuses (README): 0
+    completed, 3 physics limit (both leave readable results), others failed."""
+    cmd = [os.fspath(exe), "run", os.fspath(deck), "-o", os.fspath(results), *(["--quiet"] if quiet else [])]
+    with subprocess.Popen(cmd, cwd=cwd, text=True, stdout=log or subprocess.PIPE,
+                          stderr=subprocess.STDOUT if log else subprocess.PIPE) as proc:
+        if started is not None:
+            started(proc)
+        try:
+            stdout, stderr = proc.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+            raise
+    return subprocess.CompletedProcess(cmd, proc.returncode, stdout, stderr)

@@ -74,7 +74,7 @@ def read_root_locus(path: str | os.PathLike) -> dict[float, list[Mode]]:
 
 
 # ------------------------------------------------------------------------------------------
-# growth of a disturbed motion (shared with the validation harness)
+# growth of a disturbed motion (shared with the validation harness and the campaigns)
 
 
 class StabilityError(RuntimeError):

@@ -14,6 +14,7 @@ from typing import Callable, Iterable
 
 import numpy as np
 
+from .. import executable
 from ..executable import ExecutableNotFound, find_raildyn_executable
 from ..results import Results
 from .core import INPUTS, REPO, Check, CaseError, CaseResult
@@ -132,8 +133,7 @@ def run_deck(deck: Path, results: Path, exe: str | os.PathLike | None = None, ov
         results.unlink()
     t0 = time.perf_counter()
     try:
-        proc = subprocess.run([os.fspath(exe), "run", os.fspath(run_deck_path), "-o", os.fspath(results)],
-                              capture_output=True, text=True, timeout=timeout)
+        proc = executable.run_deck(exe, run_deck_path, results, timeout=timeout)
     except subprocess.TimeoutExpired:
         raise CaseError(f"raildyn run {run_deck_path.name} exceeded the wall-clock limit of {timeout:g} s "
                         "(RAILDYN_VALIDATION_TIMEOUT); the partial results are in "
