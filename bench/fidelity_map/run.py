@@ -191,15 +191,12 @@ class Series:
         r = raildyn.Results(path)
         try:
             def get(ch):
-                name = V.resolve_channel(r, ch)
-                if name is None:
-                    raise KeyError(f"{path.name}: no channel {ch}")
-                return np.asarray(r.get(name), float)
+                return np.asarray(r.get(ch), float)
             self.t = np.asarray(r.time, float)
             n = len(wheelsets)
             self.y = np.array([get(f"bodies/ws{k}/position_track:y") for k in range(1, n + 1)])
-            self.fy = np.array([get(f"wheelsets/{w}/{s}/force_track:fy") for w in wheelsets for s in ("left", "right")])
-            self.fz = np.array([get(f"wheelsets/{w}/{s}/force_track:fz") for w in wheelsets for s in ("left", "right")])
+            self.fy = np.array([get(f"wheelsets/{w}/{s}/wheel:force_lateral_Y") for w in wheelsets for s in ("left", "right")])
+            self.fz = np.array([get(f"wheelsets/{w}/{s}/wheel:force_vertical_Q") for w in wheelsets for s in ("left", "right")])
             self.sigma = get("vehicle/distance:sigma")
             self.get = get
             self.entries = None

@@ -287,11 +287,28 @@ def test_reference_curve_band(tmp_path):
         V.read_band_csv(p)
 
 
+def _wheel(fc):
+    """A wheel's series (docs/output.md ``<side>/wheel``) carrying the rail force fc (n, 3)."""
+    n = len(fc)
+    return (np.column_stack([np.ones(n), fc, np.zeros((n, 2))]), "1 N N N 1 m",
+            "n_patches force_longitudinal force_lateral_Y force_vertical_Q Y_over_Q max_penetration", "wheel")
+
+
+_PATCH_UNITS = {"normal_force": "N", "xi": "1", "eta": "1", "spin": "1/m", "creep_force_x": "N",
+                "creep_force_y": "N", "contact_angle": "rad", "semi_axis_a": "m", "semi_axis_b": "m"}
+
+
+def _patch(**columns):
+    """A contact patch's series (docs/output.md ``<side>/patch<j>``) with these of its columns."""
+    return (np.column_stack(list(columns.values())), " ".join(_PATCH_UNITS[c] for c in columns),
+            " ".join(columns), "patch")
+
+
 def _wheel_forces(series, n, wheelsets):
     """Zero wheel forces: the harness requires every deck wheelset to have written them."""
     for k in wheelsets:
         for side in ("left", "right"):
-            series[f"wheelsets/w{k}/{side}/force_track"] = (np.zeros((n, 3)), "N", "fx fy fz", "f")
+            series[f"wheelsets/w{k}/{side}/wheel"] = _wheel(np.zeros((n, 3)))
     return series
 
 
@@ -322,12 +339,10 @@ def _straight_contact(series, t, y, wheelsets, f11, f22, f23=STRAIGHT_CONTACT.f2
             cr = np.column_stack([xi, eta, spin])
             fc = np.column_stack([-f11 * s * xi, -f22 * s * eta - f23 * s ** 1.5 * spin, np.zeros(n)])
             base = f"wheelsets/w{k}/{side}"
-            series[f"{base}/force_track"] = (fc, "N", "fx fy fz", "f")
-            series[f"{base}/contact1/creepage"] = (cr, "1 1 1/m", "xi eta phi", "c")
-            series[f"{base}/contact1/creep_force_contact"] = (fc, "N N N*m", "fx fy mz", "c")
-            series[f"{base}/contact1/normal_force"] = (load[:, None], "N", "N", "n")
-            series[f"{base}/contact1/ellipse"] = (np.column_stack([1.3 * np.sqrt(ab / 1.3), np.sqrt(ab / 1.3)]),
-                                                  "m m", "a b", "e")
+            series[f"{base}/wheel"] = _wheel(fc)
+            series[f"{base}/patch1"] = _patch(normal_force=load, xi=xi, eta=eta, spin=spin, creep_force_x=fc[:, 0],
+                                              creep_force_y=fc[:, 1], semi_axis_a=1.3 * np.sqrt(ab / 1.3),
+                                              semi_axis_b=np.sqrt(ab / 1.3))
     return series
 
 
@@ -408,7 +423,7 @@ def _manchester_file(make_results_file, scale=None):
             f = forces.setdefault((e.wheelset, e.side), np.zeros((len(t), 3)))
             f[:, {"longitudinal_force": 0, "lateral_force": 1, "vertical_force": 2}[e.quantity]] = val
     for (k, side), f in forces.items():
-        series[f"wheelsets/w{k}/{side}/force_track"] = (f, "N", "fx fy fz", "wheel force")
+        series[f"wheelsets/w{k}/{side}/wheel"] = _wheel(f)
     return t, series
 
 
@@ -570,9 +585,8 @@ def _curving_series(t, f11=9.0e6, f22=8.0e6, swap=False):
             cr = np.column_stack([xi, eta, spin])
             fc = np.column_stack([-f11 * xi, -f22 * eta - 3e4 * spin, np.zeros(n)])
             base = f"wheelsets/w{k}/{side}"
-            series[f"{base}/force_track"] = (fc, "N", "fx fy fz", "f")
-            series[f"{base}/contact1/creepage"] = (cr, "1 1 1/m", "xi eta phi", "c")
-            series[f"{base}/contact1/creep_force_contact"] = (fc, "N N N*m", "fx fy mz", "c")
+            series[f"{base}/wheel"] = _wheel(fc)
+            series[f"{base}/patch1"] = _patch(xi=xi, eta=eta, spin=spin, creep_force_x=fc[:, 0], creep_force_y=fc[:, 1])
     return s, series
 
 
@@ -809,15 +823,11 @@ def _profile_run(t, shift=(-6e-3, -3e-3, -5.5e-3, -2.5e-3), gamma_right=0.6, fy_
             f = np.zeros((n, 3))
             f[:, 1] = fy_scale * (-20e3 if side == "right" else 8e3) * ramp / k
             base = f"wheelsets/w{k}/{side}"
-            series[f"{base}/force_track"] = (f, "N", "fx fy fz", "f")
-            g = np.column_stack([np.zeros(n), np.zeros(n), np.full(n, 0.03 if side == "right" else -0.03), np.zeros(n)])
-            series[f"{base}/contact1/geometry"] = (g, "m m rad m", "y_wheel y_rail gamma penetration", "g")
-            series[f"{base}/contact1/normal_force"] = (np.full((n, 1), 5e4), "N", "N", "n")
-            g2 = g.copy()
-            g2[:, 2] = (gamma_right * ramp) if side == "right" else 0.0
-            series[f"{base}/contact2/geometry"] = (g2, "m m rad m", "y_wheel y_rail gamma penetration", "g")
-            series[f"{base}/contact2/normal_force"] = (
-                (ramp > 0.5)[:, None] * 2e4 if side == "right" else np.zeros((n, 1)), "N", "N", "n")
+            series[f"{base}/wheel"] = _wheel(f)
+            series[f"{base}/patch1"] = _patch(normal_force=np.full(n, 5e4),
+                                              contact_angle=np.full(n, 0.03 if side == "right" else -0.03))
+            series[f"{base}/patch2"] = _patch(normal_force=(ramp > 0.5) * 2e4 if side == "right" else np.zeros(n),
+                                              contact_angle=gamma_right * ramp if side == "right" else np.zeros(n))
     return series
 
 
@@ -851,36 +861,35 @@ def test_profile_cases_end_to_end(make_results_file, tmp_path):
     assert [c.name for c in res.checks if not c.passed] == ["polach_lateral_force_difference"]
 
 
-def test_per_wheel_layout_is_read_through_aliases(make_results_file, tmp_path):
-    """Results with one series per wheel ('wheel': force_longitudinal, force_lateral_Y,
-    force_vertical_Q, ...) and per patch ('patch<j>': xi, eta, creep_force_x, ...) evaluate like
-    the docs/output.md layout: the curve case built both ways gives the same checks."""
+def test_channels_are_read_by_the_writers_names(make_results_file, tmp_path):
+    """The harness reads the series the writer makes (docs/output.md: ``<side>/wheel``,
+    ``<side>/patch<j>``) by their names and nothing else: the curve case in that layout passes;
+    the same numbers under the per-contact names of an earlier layout (force_track,
+    contact1/creepage, contact1/creep_force_contact), which no writer makes, are not taken for
+    them: the case fails and names what it lacks."""
     out = tmp_path / "out"
     out.mkdir()
     t = np.arange(0.0, 30.0 + 1e-9, 0.01)
     _, series = _curving_series(t)
     make_results_file("out/tgv_bogie_curve.h5", t, series, meta_attrs={"status": "completed"})
     ref = V.run_case("tgv_bogie_curve", out, reuse=True)
-    alt = {}
+    assert ref.passed, ref.summary()
+    old = {}
     for name, (data, unit, comps, desc) in series.items():
-        m = re.match(r"(wheelsets/w\d/(?:left|right))/(force_track|contact1/creepage|contact1/creep_force_contact)$", name)
-        if not m:
-            alt[name] = (data, unit, comps, desc)
-            continue
-        base, what = m.groups()
-        if what == "force_track":
-            wheel = np.column_stack([np.ones(len(t)), data, data[:, 1] / 5e4, np.zeros(len(t))])
-            alt[f"{base}/wheel"] = (wheel, "1 N N N 1 m", "n_patches force_longitudinal force_lateral_Y "
-                                    "force_vertical_Q Y_over_Q max_penetration", "w")
+        base, _, what = name.rpartition("/")
+        if what == "wheel":
+            old[f"{base}/force_track"] = (data[:, 1:4], "N", "fx fy fz", "f")
+        elif what == "patch1":          # xi eta spin creep_force_x creep_force_y
+            old[f"{base}/contact1/creepage"] = (data[:, :3], "1 1 1/m", "xi eta phi", "c")
+            old[f"{base}/contact1/creep_force_contact"] = (np.column_stack([data[:, 3:5], np.zeros(len(t))]),
+                                                           "N N N*m", "fx fy mz", "c")
         else:
-            cr = series[f"{base}/contact1/creepage"][0]
-            fc = series[f"{base}/contact1/creep_force_contact"][0]
-            alt[f"{base}/patch1"] = (np.column_stack([cr, fc]), "1 1 1/m N N N*m",
-                                     "xi eta spin creep_force_x creep_force_y spin_moment", "p")
-    make_results_file("out/tgv_bogie_curve.h5", t, alt, meta_attrs={"status": "completed"})
+            old[name] = (data, unit, comps, desc)
+    make_results_file("out/tgv_bogie_curve.h5", t, old, meta_attrs={"status": "completed"})
     res = V.run_case("tgv_bogie_curve", out, reuse=True)
-    assert res.passed, res.summary()
-    assert [(c.name, c.value) for c in res.checks] == [(c.name, c.value) for c in ref.checks]
+    assert not res.passed
+    contact = next(c for c in res.checks if c.name == "wheel-rail contact outputs present")
+    assert not contact.passed and "no wheelsets/<name>/left/wheel for w1, w2" in contact.detail, contact
 
 
 def test_identify_creep_coefficients_with_spin(make_results_file, tmp_path):
@@ -897,8 +906,8 @@ def test_identify_creep_coefficients_with_spin(make_results_file, tmp_path):
         ctx = V.Context(V.CASES["tgv_bogie_straight_20"], V.CaseResult("x"), r, tmp_path, None, False, {})
         c = V.identify_knife_edge_contact(ctx, ["w1", "w2"], 0.5)
         # the identification that ignores the loads is biased by the moving spin force
-        sums = [ctx.get(f"wheelsets/w{k}/left/contact1/{ch}") + ctx.get(f"wheelsets/w{k}/right/contact1/{ch}")
-                for k in (1, 2) for ch in ("creep_force_contact:fy", "creepage:eta", "creepage:phi")]
+        sums = [ctx.get(f"wheelsets/w{k}/left/patch1:{ch}") + ctx.get(f"wheelsets/w{k}/right/patch1:{ch}")
+                for k in (1, 2) for ch in ("creep_force_y", "eta", "spin")]
     m = t >= 0.5
     sfy, seta, sphi = (np.concatenate([sums[3 * j + i][m] for j in range(2)]) for i in range(3))
     naive = -np.linalg.lstsq(np.column_stack([seta, sphi]), sfy, rcond=None)[0][0]

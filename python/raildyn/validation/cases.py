@@ -23,13 +23,13 @@ CASES: dict[str, Case] = {c.name: c for c in [
          "wheel forces against the five packages of thesis tables 5.9-5.11, and quiet (no contact "
          "loss, wheel loads steady within 1 kN in the window; issue 12).", evaluate_manchester_quiet,
          baseline_channels=("bodies/ws1/position_track:y", "bodies/ws1/position_track:yaw",
-                            "wheelsets/w1/left/force_track:fy", "wheelsets/w1/left/force_track:fz")),
+                            "wheelsets/w1/left/wheel:force_lateral_Y", "wheelsets/w1/left/wheel:force_vertical_Q")),
     Case("manchester_v1_tc1_tables", "manchester_v1_tc1_tables.nml",
          "Manchester Benchmark Vehicle 1, Track Case 1, contact tables",
          "The acceptance scene with its profile contact evaluated from pre-computed tables of the strip "
          "model (docs/theory_contact_geometry.md section 10): the same rule.", evaluate_manchester,
          baseline_channels=("bodies/ws1/position_track:y", "bodies/ws1/position_track:yaw",
-                            "wheelsets/w1/left/force_track:fy", "wheelsets/w1/left/force_track:fz")),
+                            "wheelsets/w1/left/wheel:force_lateral_Y", "wheelsets/w1/left/wheel:force_vertical_Q")),
     Case("tgv_wheelset", "tgv_wheelset.nml", "TGV 001 single wheelset, straight, 20 m/s",
          "Knife-edge wheelset on primary springs to the track frame: the 1 mm disturbance decays.",
          evaluate_tgv, baseline_channels=_TGV_BASE[:2]),
@@ -68,9 +68,9 @@ def _check_contact_outputs(ctx: Context) -> None:
     """Every wheelset of the deck must have written its wheel forces: a scene that runs the
     bodies without wheel-rail contact must not pass a validation case by accident."""
     missing = [w for w in deck_wheelsets(ctx.case.deck_path)
-               if not ctx.has(f"wheelsets/{w}/left/force_track:fy")]
+               if not ctx.has(f"wheelsets/{w}/left/wheel:force_lateral_Y")]
     ctx.check("wheel-rail contact outputs present", not missing, None, "all wheelsets", "",
-              "" if not missing else "no wheelsets/<name>/left/force_track for " + ", ".join(missing) +
+              "" if not missing else "no wheelsets/<name>/left/wheel for " + ", ".join(missing) +
               ": the scene ran without wheel-rail contact for these wheelsets (contact not wired)")
 
 

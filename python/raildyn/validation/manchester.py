@@ -104,9 +104,9 @@ MANCHESTER_SIGMA_WINDOW = (106.0, 128.5)
 _MB_CHANNEL = {
     "lateral_shift": ("bodies/ws{k}/position_track:y", "m"),
     "yaw": ("bodies/ws{k}/position_track:yaw", "rad"),
-    "longitudinal_force": ("wheelsets/w{k}/{side}/force_track:fx", "N"),
-    "lateral_force": ("wheelsets/w{k}/{side}/force_track:fy", "N"),
-    "vertical_force": ("wheelsets/w{k}/{side}/force_track:fz", "N"),
+    "longitudinal_force": ("wheelsets/w{k}/{side}/wheel:force_longitudinal", "N"),
+    "lateral_force": ("wheelsets/w{k}/{side}/wheel:force_lateral_Y", "N"),
+    "vertical_force": ("wheelsets/w{k}/{side}/wheel:force_vertical_Q", "N"),
 }
 
 
@@ -190,7 +190,7 @@ def evaluate_manchester(ctx: Context) -> None:
         "move outwards and yaw ws2 falls towards the packages' values: the packages' flange "
         "clearance is not in the benchmark data available to us.")
     # static balance (information): sum of vertical wheel forces against the weight
-    qsum = sum(window_mean(t, ctx.get(f"wheelsets/w{k}/{side}/force_track:fz"), w0, w1)
+    qsum = sum(window_mean(t, ctx.get(f"wheelsets/w{k}/{side}/wheel:force_vertical_Q"), w0, w1)
                for k in range(1, 5) for side in ("left", "right"))
     ctx.result.notes.append(f"Sum of vertical wheel forces in the window: {qsum / 1e3:.2f} kN "
                             f"(vehicle weight 44 482 kg x g = 436.22 kN).")
@@ -199,12 +199,12 @@ def evaluate_manchester(ctx: Context) -> None:
                                                  for k in ws], "y [mm]", 1e3, (w0, w1))
     ctx.plot("Yaw angle of the wheelsets", [(f"ws{k}", t, ctx.get(f"bodies/ws{k}/position_track:yaw"))
                                              for k in ws], "yaw [mrad]", 1e3, (w0, w1))
-    for q, comp in (("Lateral", "fy"), ("Vertical", "fz"), ("Longitudinal", "fx")):
+    for q, comp in (("Lateral", "lateral_Y"), ("Vertical", "vertical_Q"), ("Longitudinal", "longitudinal")):
         ctx.plot(f"{q} wheel forces (track frame, on the wheel)",
-                 [(f"ws{k} {side}", t, ctx.get(f"wheelsets/w{k}/{side}/force_track:{comp}"))
+                 [(f"ws{k} {side}", t, ctx.get(f"wheelsets/w{k}/{side}/wheel:force_{comp}"))
                   for k in ws for side in ("left", "right")], "force [kN]", 1e-3, (w0, w1))
-    if all(ctx.has(f"wheelsets/w1/{s}/Y_Q:Y_Q") for s in ("left", "right")):
-        ctx.plot("Y/Q of wheelset 1", [(f"ws1 {s}", t, ctx.get(f"wheelsets/w1/{s}/Y_Q:Y_Q"))
+    if all(ctx.has(f"wheelsets/w1/{s}/wheel:Y_over_Q") for s in ("left", "right")):
+        ctx.plot("Y/Q of wheelset 1", [(f"ws1 {s}", t, ctx.get(f"wheelsets/w1/{s}/wheel:Y_over_Q"))
                                        for s in ("left", "right")], "Y/Q [-]", 1.0, (w0, w1))
 
 
@@ -222,7 +222,7 @@ def check_manchester_quiet(ctx: Context) -> None:
     t = ctx.time()
     w0, w1 = manchester_window(ctx)
     m = window_mask(t, w0, w1)
-    worst = max(float(np.std(ctx.get(f"wheelsets/w{k}/{side}/force_track:fz")[m]))
+    worst = max(float(np.std(ctx.get(f"wheelsets/w{k}/{side}/wheel:force_vertical_Q")[m]))
                 for k in range(1, 5) for side in ("left", "right"))
     ctx.check("largest standard deviation of a wheel's vertical force in the window", worst <= 1.0e3,
               worst / 1e3, "<= 1 kN", "kN")

@@ -152,40 +152,6 @@ def run_deck(deck: Path, results: Path, exe: str | os.PathLike | None = None, ov
 # case context and registry
 
 
-#: Channels are named as in docs/output.md; results written with one series per wheel
-#: ('wheelsets/<w>/<side>/wheel') and per contact patch ('.../patch<j>') are read through
-#: these (pattern, replacement) pairs, tried in order.
-_W = r"^(wheelsets/[^/]+/(?:left|right))"
-CHANNEL_ALIASES = [(re.compile(p), r) for p, r in (
-    (_W + r"/force_track:fx$", r"\1/wheel:force_longitudinal"),
-    (_W + r"/force_track:fy$", r"\1/wheel:force_lateral_Y"),
-    (_W + r"/force_track:fz$", r"\1/wheel:force_vertical_Q"),
-    (_W + r"/Y_Q:Y_Q$", r"\1/wheel:Y_over_Q"),
-    (_W + r"/contact(\d+)/creepage:xi$", r"\1/patch\2:xi"),
-    (_W + r"/contact(\d+)/creepage:eta$", r"\1/patch\2:eta"),
-    (_W + r"/contact(\d+)/creepage:phi$", r"\1/patch\2:spin"),
-    (_W + r"/contact(\d+)/creep_force_contact:fx$", r"\1/patch\2:creep_force_x"),
-    (_W + r"/contact(\d+)/creep_force_contact:fy$", r"\1/patch\2:creep_force_y"),
-    (_W + r"/contact(\d+)/creep_force_contact:mz$", r"\1/patch\2:spin_moment"),
-    (_W + r"/contact(\d+)/normal_force:N$", r"\1/patch\2:normal_force"),
-    (_W + r"/contact(\d+)/geometry:gamma$", r"\1/patch\2:contact_angle"),
-    (_W + r"/contact(\d+)/ellipse:a$", r"\1/patch\2:semi_axis_a"),
-    (_W + r"/contact(\d+)/ellipse:b$", r"\1/patch\2:semi_axis_b"),
-)]
-
-
-def resolve_channel(r: Results, channel: str) -> str | None:
-    """The name under which results ``r`` hold a channel given by its docs/output.md name:
-    itself, or its name in the per-wheel/per-patch layout (CHANNEL_ALIASES); None."""
-    if channel in r:
-        return channel
-    for pattern, repl in CHANNEL_ALIASES:
-        alt, n = pattern.subn(repl, channel)
-        if n and alt in r:
-            return alt
-    return None
-
-
 class Context:
     """What an evaluation function works with: the case's results and helpers."""
 
@@ -195,27 +161,24 @@ class Context:
         self.exe, self.reuse, self.others = exe, reuse, others
         self.cache: dict = {}        #: values shared by the checks of one evaluation
 
-    # data access with a clear message when the scene did not write a channel
-    def resolve(self, channel: str, results: Results | None = None) -> str | None:
-        """The name under which the results hold a channel given by its docs/output.md name:
-        itself, or its name in the per-wheel/per-patch layout (CHANNEL_ALIASES); None."""
-        r = results or self.r
-        if r is None:
+    # data access by the names of docs/output.md ('series:component'), with a clear message
+    # when the scene did not write a channel
+    def _results(self, results: Results | None) -> Results:
+        if (results or self.r) is None:
             raise CaseError(f"case {self.case.name} has no results of its own")
-        return resolve_channel(r, channel)
+        return results or self.r
 
     def has(self, channel: str, results: Results | None = None) -> bool:
-        return self.resolve(channel, results) is not None
+        return channel in self._results(results)
 
     def get(self, channel: str, results: Results | None = None) -> np.ndarray:
-        r = results or self.r
-        name = self.resolve(channel, r)
-        if name is None:
+        r = self._results(results)
+        if channel not in r:
             bodies = [c for c in r.channels() if c.startswith(("bodies/", "wheelsets/"))]
             hint = ("" if bodies else " (the results hold no bodies/ or wheelsets/ series: the "
                     "scene did not build bodies and wheelsets from the deck)")
             raise CaseError(f"{Path(r.path).name}: no channel {channel!r}{hint}")
-        return np.asarray(r.get(name), float)
+        return np.asarray(r.get(channel), float)
 
     def time(self, results: Results | None = None) -> np.ndarray:
         return np.asarray((results or self.r).time, float)

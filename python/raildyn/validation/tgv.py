@@ -118,14 +118,14 @@ def _kind_flange_contact(ctx, row):
     sgn = 1.0 if side == "right" else -1.0   # conventions: gamma > 0 at a right flange contact
     gam = []
     j = 1
-    while ctx.has(f"{base}/contact{j}/geometry:gamma"):
-        _, g = _window(ctx, row, f"{base}/contact{j}/geometry:gamma")
-        _, nf = _window(ctx, row, f"{base}/contact{j}/normal_force:N")
+    while ctx.has(f"{base}/patch{j}:contact_angle"):
+        _, g = _window(ctx, row, f"{base}/patch{j}:contact_angle")
+        _, nf = _window(ctx, row, f"{base}/patch{j}:normal_force")
         gam.append(np.where(nf > 0.0, sgn * g, -np.inf))      # active: carries normal force
         j += 1
     if not gam:
         raise CaseError(f"check {row['id']}: no contact point series under {base} "
-                        f"(expected {base}/contact1/geometry, docs/output.md)")
+                        f"(expected {base}/patch1, docs/output.md)")
     mean_max = float(np.mean(np.max(np.vstack(gam), axis=0)))
     thr = float(row["threshold"])
     ctx.check(row["id"], mean_max > thr, mean_max, f"> {thr:g}", "rad",
@@ -183,11 +183,11 @@ def _identify_creep_coefficients(ctx: Context, row: dict, wheelsets: Sequence[st
     for w in wheelsets:
         c = {}
         for side in ("left", "right"):
-            base = f"wheelsets/{w}/{side}/contact1"
-            _, cr = _window(ctx, row, f"{base}/creepage:xi")
-            _, et = _window(ctx, row, f"{base}/creepage:eta")
-            _, fx = _window(ctx, row, f"{base}/creep_force_contact:fx")
-            _, fy = _window(ctx, row, f"{base}/creep_force_contact:fy")
+            base = f"wheelsets/{w}/{side}/patch1"
+            _, cr = _window(ctx, row, f"{base}:xi")
+            _, et = _window(ctx, row, f"{base}:eta")
+            _, fx = _window(ctx, row, f"{base}:creep_force_x")
+            _, fy = _window(ctx, row, f"{base}:creep_force_y")
             c[side] = [float(np.mean(v)) for v in (cr, et, fx, fy)]
         dxi.append(c["right"][0] - c["left"][0])
         dfx.append(c["right"][2] - c["left"][2])
@@ -215,12 +215,11 @@ def identify_knife_edge_contact(ctx: Context, wheelsets: Sequence[str], t_from: 
     cols = {k: [] for k in ("xi", "eta", "phi", "fx", "fy", "ab", "n")}
     for w in wheelsets:
         for side in ("left", "right"):
-            base = f"wheelsets/{w}/{side}/contact1"
-            for k, ch in (("xi", "creepage:xi"), ("eta", "creepage:eta"), ("phi", "creepage:phi"),
-                          ("fx", "creep_force_contact:fx"), ("fy", "creep_force_contact:fy"),
-                          ("n", "normal_force:N")):
-                cols[k].append(ctx.get(f"{base}/{ch}", results)[m])
-            cols["ab"].append(ctx.get(f"{base}/ellipse:a", results)[m] * ctx.get(f"{base}/ellipse:b", results)[m])
+            base = f"wheelsets/{w}/{side}/patch1"
+            for k, ch in (("xi", "xi"), ("eta", "eta"), ("phi", "spin"), ("fx", "creep_force_x"),
+                          ("fy", "creep_force_y"), ("n", "normal_force")):
+                cols[k].append(ctx.get(f"{base}:{ch}", results)[m])
+            cols["ab"].append(ctx.get(f"{base}:semi_axis_a", results)[m] * ctx.get(f"{base}:semi_axis_b", results)[m])
     xi, eta, phi, fx, fy, ab, n = (np.concatenate(cols[k]) for k in ("xi", "eta", "phi", "fx", "fy", "ab", "n"))
     if not (ab.size and np.all(ab > 0)):
         raise CaseError("no loaded contact ellipse in the samples: cannot identify the creep coefficients")
@@ -352,7 +351,7 @@ def critical_speed_bisection(ctx: Context, row: dict) -> float:
         res = ctx.run_variant(f"v{v:.3f}", f"&simulation speed = {v:.6g}, t_end = {CRITICAL_SPEED_T_END:g} /")
         with res:
             missing = [w for w in deck_wheelsets(ctx.case.deck_path)
-                       if not ctx.has(f"wheelsets/{w}/left/force_track:fy", res)]
+                       if not ctx.has(f"wheelsets/{w}/left/wheel:force_lateral_Y", res)]
             if missing:
                 raise CaseError(f"speed {v:g} m/s: no wheel forces of {', '.join(missing)}: the scene "
                                 "ran without wheel-rail contact (contact not wired)")
@@ -403,6 +402,6 @@ def evaluate_tgv(ctx: Context) -> None:
                                                           for k in range(1, nws + 1)], "y [mm]", 1e3)
         ctx.plot("Yaw angle of the wheelsets", [(f"ws{k}", t, ctx.get(f"bodies/ws{k}/position_track:yaw"))
                                                 for k in range(1, nws + 1)], "yaw [mrad]", 1e3)
-    if ctx.has("wheelsets/w1/left/force_track:fy"):
-        ctx.plot("Lateral wheel forces of wheelset 1", [(f"w1 {s}", t, ctx.get(f"wheelsets/w1/{s}/force_track:fy"))
+    if ctx.has("wheelsets/w1/left/wheel:force_lateral_Y"):
+        ctx.plot("Lateral wheel forces of wheelset 1", [(f"w1 {s}", t, ctx.get(f"wheelsets/w1/{s}/wheel:force_lateral_Y"))
                                                         for s in ("left", "right")], "force [kN]", 1e-3)
