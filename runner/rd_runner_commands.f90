@@ -14,10 +14,12 @@ module rd_runner_commands
   use rd_cmd_conicity, only: run_conicity_command, conicity_usage
   use rd_track_export, only: export_track
   use rd_build_info, only: python_command, shell_quote, runner_path
-  use rd_json, only: json_string
+  use rd_json, only: json_string, json_real
   use rd_runner_scene, only: start_scene
   use rd_cmd_eigen, only: run_eigen_command, eigen_usage
-  use rd_deck, only: deck_string_t
+  use rd_deck, only: deck_string_t, deck_t, read_deck_file
+  use rd_deck_schema, only: deck_schema_t, param_schema_t, build_deck_schema, PT_REAL, PT_INTEGER, &
+                            PT_STRING, PT_LOGICAL, PT_REAL_ARRAY, PT_STRING_LIST
   use rd_text, only: int_text
   implicit none
   private
@@ -234,7 +236,9 @@ contains
   !> instead of the ok line (errors still go to stderr too): deck, status ('ok' or
   !> 'error'), exit_code, message, version and input_files, every file the deck reads
   !> (rd_deck input_files; listed when the deck could be read, even if the build fails),
-  !> for tools that must know what a run depends on (the campaigns' cache).
+  !> for tools that must know what a run depends on (the campaigns' cache); then the
+  !> resolved deck (resolved_deck_json): decks (the deck and its includes) and groups, for
+  !> tools that must know what a deck says (the validation harness) without parsing it.
   subroutine command_check(args, status)
     character(len=*), intent(in) :: args(:)
     integer, intent(out) :: status
@@ -277,8 +281,120 @@ contains
       if (i > 1) text = text // ', '
       text = text // json_string(files(i)%s)
     end do
-    write (output_unit, '(a)') text // ']}'
+    write (output_unit, '(a)') text // ']' // resolved_deck_json(deck, files) // '}'
   end subroutine print_check_json
+
+  !> The deck as the scene reads it, for `check --json` (read once more: the scene keeps its
+  !> deck to itself): "decks", the deck and its includes in reading order (the input files no
+  !> parameter names), and "groups", per kind of group (in schema order) its occurrences in
+  !> deck order, each an object of every parameter of the group with overrides merged and
+  !> defaults applied (docs/input_reference.md): numbers with 17 digits, path parameters
+  !> resolved against the deck naming them, null for an optional parameter not given. Empty
+  !> when the deck does not read.
+  function resolved_deck_json(path, files) result(text)
+    character(len=*), intent(in) :: path
+    type(deck_string_t), intent(in) :: files(:)
+    character(len=:), allocatable :: text, groups, sep
+    type(deck_t) :: deck
+    type(deck_schema_t) :: schema
+    type(error_t), allocatable :: error
+    integer :: f, g, i, p
+    logical :: named
+    text = ', "decks": ['
+    groups = ''
+    call read_deck_file(deck, path, error)
+    if (.not. allocated(error)) then
+      schema = build_deck_schema()
+      sep = ''
+      do f = 1, size(files)
+        named = .false.
+        do g = 1, size(schema%groups)
+          if (schema%groups(g)%name == 'include') cycle     ! its file is a deck
+          do i = 1, deck%count(schema%groups(g)%name)
+            do p = 1, size(schema%groups(g)%params)
+              associate (q => schema%groups(g)%params(p))
+                if (q%is_path .and. q%must_exist) named = named .or. &
+                  deck%path(schema%groups(g)%name, i, q%name) == files(f)%s
+              end associate
+            end do
+          end do
+        end do
+        if (named) cycle
+        text = text // sep // json_string(files(f)%s)
+        sep = ', '
+      end do
+      do g = 1, size(schema%groups)
+        if (deck%count(schema%groups(g)%name) == 0) cycle
+        if (len(groups) > 0) groups = groups // ', '
+        groups = groups // json_string(schema%groups(g)%name) // ': ['
+        do i = 1, deck%count(schema%groups(g)%name)
+          if (i > 1) groups = groups // ', '
+          groups = groups // '{'
+          do p = 1, size(schema%groups(g)%params)
+            if (p > 1) groups = groups // ', '
+            groups = groups // json_string(schema%groups(g)%params(p)%name) // ': ' // &
+                     parameter_json(deck, schema%groups(g)%name, i, schema%groups(g)%params(p))
+          end do
+          groups = groups // '}'
+        end do
+        groups = groups // ']'
+      end do
+    end if
+    text = text // '], "groups": {' // groups // '}'
+  end function resolved_deck_json
+
+  !> One parameter's value in JSON (the getter of its type; null when it has none).
+  function parameter_json(deck, group, i, p) result(json)
+    type(deck_t), intent(in) :: deck
+    character(len=*), intent(in) :: group
+    integer, intent(in) :: i
+    type(param_schema_t), intent(in) :: p
+    character(len=:), allocatable :: json, word
+    type(error_t), allocatable :: error
+    real(wp) :: x
+    real(wp), allocatable :: xs(:)
+    type(deck_string_t), allocatable :: words(:)
+    integer :: n, k
+    logical :: flag
+    select case (p%ptype)
+    case (PT_REAL)
+      call deck%get(group, i, p%name, x, error)
+      json = json_real(x)
+    case (PT_INTEGER)
+      call deck%get(group, i, p%name, n, error)
+      json = trim(int_text(n))
+    case (PT_LOGICAL)
+      call deck%get(group, i, p%name, flag, error)
+      json = trim(merge('true ', 'false', flag))
+    case (PT_STRING)
+      call deck%get(group, i, p%name, word, error)
+      if (p%is_path .and. len(deck%path(group, i, p%name)) > 0) word = deck%path(group, i, p%name)
+      json = json_string(word)
+    case (PT_REAL_ARRAY)
+      call deck%get(group, i, p%name, xs, error)
+      json = '['
+      if (.not. allocated(error)) then
+        do k = 1, size(xs)
+          if (k > 1) json = json // ', '
+          json = json // json_real(xs(k))
+        end do
+      end if
+      json = json // ']'
+    case (PT_STRING_LIST)
+      call deck%get(group, i, p%name, words, error)
+      json = '['
+      if (.not. allocated(error)) then
+        do k = 1, size(words)
+          if (k > 1) json = json // ', '
+          json = json // json_string(words(k)%s)
+        end do
+      end if
+      json = json // ']'
+    case default
+      json = 'null'
+    end select
+    if (allocated(error)) json = 'null'
+  end function parameter_json
 
   subroutine command_run(args, status)
     character(len=*), intent(in) :: args(:)

@@ -32,7 +32,7 @@ from .references import (PACKAGES, SI_UNIT, UNIT_SCALE, PackageEntry, freeze_bas
                          load_tgv_checks, read_band_csv)
 from .signals import compare_band_curve, growth_rate, half_cycle_peaks, oscillation_wavelength, window_mask, window_mean
 from .runs import (DEFAULT_RUN_TIMEOUT, Case, Context, RunInfo, deck_assumptions, deck_files, deck_sha256,
-                   deck_wheelsets, find_executable, run_deck, run_notes, run_timeout)
+                   deck_wheelsets, find_executable, read_deck, run_deck, run_notes, run_timeout)
 from .manchester import (MANCHESTER_MAX_OFF_PERCENT, MANCHESTER_MIN_INSIDE, MANCHESTER_SIGMA_WINDOW,
                          MANCHESTER_WIDEN, AcceptanceOutcome, BandVerdict, band_verdict, check_manchester_quiet,
                          evaluate_manchester, evaluate_manchester_quiet, family_scales, manchester_acceptance,

@@ -108,7 +108,7 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
     try:
         res.assumptions = deck_assumptions(case.deck_path)
         res.deck_sha256 = deck_sha256(case.deck_path)
-    except OSError as exc:
+    except (OSError, CaseError) as exc:
         res.error = f"deck {case.deck_path}: {exc}"
         return res
     others = dict(others or {})

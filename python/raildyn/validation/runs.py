@@ -1,9 +1,11 @@
-"""Decks and runs of the cases: the include tree and ASSUMPTION lines of a deck, running a
+"""Decks and runs of the cases: a deck as the runner reads it, its ASSUMPTION lines, running a
 deck with the runner, the context an evaluation works with (channels, plots, variant runs)
 and the case record."""
 from __future__ import annotations
 
+import functools
 import hashlib
+import json
 import os
 import re
 import subprocess
@@ -19,25 +21,28 @@ from ..executable import ExecutableNotFound, find_raildyn_executable
 from ..results import Results
 from .core import INPUTS, REPO, Check, CaseError, CaseResult
 
-_INCLUDE = re.compile(r"&include\s+file\s*=\s*(['\"])(.*?)\1", re.IGNORECASE)
+
+@functools.lru_cache(maxsize=None)
+def read_deck(deck: str | os.PathLike) -> dict:
+    """The deck as the runner reads it, ``raildyn check DECK --json`` (docs/validation.md):
+    "decks" (the deck and its includes in reading order), "groups" (every group resolved:
+    overrides merged, defaults applied). Read by the runner found the usual way
+    (raildyn.executable; reading runs nothing, so not the ``--exe`` of the runs); once per deck
+    and process. A deck that does not read is a CaseError with the runner's message."""
+    exe = find_executable()
+    proc = subprocess.run([os.fspath(exe), "check", os.fspath(deck), "--json"], capture_output=True, text=True)
+    try:
+        answer = json.loads(proc.stdout)
+    except json.JSONDecodeError:
+        raise CaseError(f"{exe} check {deck} --json gave no answer: {proc.stderr.strip()}") from None
+    if not answer.get("decks"):
+        raise CaseError(f"raildyn check {deck}: {answer.get('message')}")
+    return answer
 
 
 def deck_files(deck: str | os.PathLike) -> list[Path]:
-    """The deck and every deck it includes (depth first, each once)."""
-    seen: list[Path] = []
-
-    def visit(p: Path) -> None:
-        p = p.resolve()
-        if p in seen:
-            return
-        seen.append(p)
-        for line in p.read_text().splitlines():
-            code = line.split("!", 1)[0]
-            for m in _INCLUDE.finditer(code):
-                visit((p.parent / m.group(2)) if not os.path.isabs(m.group(2)) else Path(m.group(2)))
-
-    visit(Path(deck))
-    return seen
+    """The deck and every deck it includes (reading order, each once)."""
+    return [Path(p).resolve() for p in read_deck(os.fspath(deck))["decks"]]
 
 
 def deck_assumptions(deck: str | os.PathLike) -> list[str]:
@@ -237,15 +242,6 @@ class Case:
         return INPUTS / self.deck
 
 
-_WHEELSET_NAME = re.compile(r"&wheelset\s+name\s*=\s*(['\"])(.*?)\1", re.IGNORECASE)
-
-
 def deck_wheelsets(deck: str | os.PathLike) -> list[str]:
-    """Names of the &wheelset groups of a deck and its includes (an override repeats a name)."""
-    names: list[str] = []
-    for p in deck_files(deck):
-        for line in p.read_text().splitlines():
-            for m in _WHEELSET_NAME.finditer(line.split("!", 1)[0]):
-                if m.group(2) not in names:
-                    names.append(m.group(2))
-    return names
+    """Names of the deck's wheelsets (its &wheelset groups, overrides merged), in deck order."""
+    return [w["name"] for w in read_deck(os.fspath(deck))["groups"].get("wheelset", [])]
