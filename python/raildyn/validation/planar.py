@@ -101,12 +101,12 @@ def steady_curving(bodies: Sequence[PlanarBody], springs: Sequence[PlanarSpring]
     return {b.name: (float(u[2 * i]), float(u[2 * i + 1])) for i, b in enumerate(bodies)}
 
 
-def tgv_planar_model(kind: str) -> tuple[list[PlanarBody], list[PlanarSpring]]:
+def tgv_planar_model(kind: str, p: dict | None = None) -> tuple[list[PlanarBody], list[PlanarSpring]]:
     """The TGV 001 single wheelset on its primary springs to the track frame ('wheelset',
     inputs/tgv_wheelset.nml), bogie ('bogie', bogie centre at 0) or complete vehicle
     ('vehicle', car body centre at 0) for ``steady_curving`` / ``lateral_stability``, from
-    TGV_BOGIE / TGV_VEHICLE."""
-    p, q = TGV_BOGIE, TGV_VEHICLE
+    TGV_BOGIE (or the bogie data ``p``) and TGV_VEHICLE."""
+    p, q = p or TGV_BOGIE, TGV_VEHICLE
     if kind == "wheelset":
         return ([PlanarBody("ws1", 0.0, p["m_w"], wheelset=True)],
                 [PlanarSpring("ground", "ws1", 0.0, 2 * p["ky"], 2 * p["kx"] * p["dp"] ** 2)])
@@ -315,16 +315,8 @@ def linear_critical_speed(kind: str, f11: float | KnifeEdgeContact, f22: float |
 
 def steady_curving_bogie(f11: float, f22: float, radius: float, a_q: float, p: dict | None = None) -> dict:
     """``steady_curving`` of the TGV bogie (or the bogie data ``p``): y1, psi1, y2, psi2, yb, psib."""
-    saved = dict(TGV_BOGIE)
-    try:
-        if p is not None:
-            TGV_BOGIE.update(p)
-        bodies, springs = tgv_planar_model("bogie")
-        s = steady_curving(bodies, springs, f11, f22, radius, a_q, TGV_BOGIE["r0"], TGV_BOGIE["e0"],
-                           TGV_BOGIE["lam"])
-    finally:
-        TGV_BOGIE.clear()
-        TGV_BOGIE.update(saved)
+    p = {**TGV_BOGIE, **(p or {})}
+    s = steady_curving(*tgv_planar_model("bogie", p), f11, f22, radius, a_q, p["r0"], p["e0"], p["lam"])
     return dict(y1=s["ws1"][0], psi1=s["ws1"][1], y2=s["ws2"][0], psi2=s["ws2"][1],
                 yb=s["bogie1"][0], psib=s["bogie1"][1])
 

@@ -31,21 +31,20 @@ def _window(ctx: Context, row: dict, channel: str | None = None, results: Result
     return t[m], y[m]
 
 
-def _kind_growth(ctx, row, above: bool):
-    t, y = _window(ctx, row)
-    rate, npk = growth_rate(t, y)
+def _bound(ctx, row, value: float, above: bool, unit: str, detail: str) -> None:
+    """The check of ``row``: ``value`` above (or below) the row's threshold."""
     thr = float(row["threshold"])
-    ok = rate > thr if above else rate < thr
-    ctx.check(row["id"], ok, rate, f"{'>' if above else '<'} {thr:g}", "1/s",
-              f"{npk} half-cycle peaks; {row['justification']}")
+    ctx.check(row["id"], value > thr if above else value < thr, value, f"{'>' if above else '<'} {thr:g}",
+              unit, detail)
+
+
+def _kind_growth(ctx, row, above: bool):
+    rate, npk = growth_rate(*_window(ctx, row))
+    _bound(ctx, row, rate, above, "1/s", f"{npk} half-cycle peaks; {row['justification']}")
 
 
 def _kind_amplitude(ctx, row, above: bool):
-    t, y = _window(ctx, row)
-    amp = float(np.max(np.abs(y)))
-    thr = float(row["threshold"])
-    ctx.check(row["id"], amp > thr if above else amp < thr, amp, f"{'>' if above else '<'} {thr:g}",
-              row["unit"], row["justification"])
+    _bound(ctx, row, float(np.max(np.abs(_window(ctx, row)[1]))), above, row["unit"], row["justification"])
 
 
 def _kind_relative_amplitude(ctx, row, above: bool):
@@ -57,27 +56,18 @@ def _kind_relative_amplitude(ctx, row, above: bool):
     peak = float(np.max(np.abs(y_all[before])))
     _, y = _window(ctx, row)
     amp = float(np.max(np.abs(y)))
-    ratio = amp / peak if peak > 0 else math.inf
-    thr = float(row["threshold"])
-    ctx.check(row["id"], ratio > thr if above else ratio < thr, ratio, f"{'>' if above else '<'} {thr:g}",
-              "1", f"max |y| {amp * 1e3:.4f} mm in the window, {peak * 1e3:.4f} mm before; "
-              f"{row['justification']}")
+    _bound(ctx, row, amp / peak if peak > 0 else math.inf, above, "1", f"max |y| {amp * 1e3:.4f} mm in the "
+           f"window, {peak * 1e3:.4f} mm before; {row['justification']}")
 
 
 def _kind_wavelength(ctx, row, above: bool):
     t, y = _window(ctx, row)
-    lam = oscillation_wavelength(t, y, ctx.speed())
-    thr = float(row["threshold"])
-    ctx.check(row["id"], lam > thr if above else lam < thr, lam, f"{'>' if above else '<'} {thr:g}",
-              "m", row["justification"])
+    _bound(ctx, row, oscillation_wavelength(t, y, ctx.speed()), above, "m", row["justification"])
 
 
 def _kind_outward(ctx, row, above: bool):
-    t, y = _window(ctx, row)
-    out = TGV_OUTWARD_SIGN * float(np.mean(y))
-    thr = float(row["threshold"])
-    ctx.check(row["id"], out > thr if above else out < thr, out, f"{'>' if above else '<'} {thr:g}",
-              "m", f"mean outward shift in the window; {row['justification']}")
+    out = TGV_OUTWARD_SIGN * float(np.mean(_window(ctx, row)[1]))
+    _bound(ctx, row, out, above, "m", f"mean outward shift in the window; {row['justification']}")
 
 
 def _kind_outward_less(ctx, row):
@@ -169,10 +159,7 @@ def _kind_case_difference(ctx, row, forces: bool):
 def _kind_critical_speed(ctx, row, above: bool):
     if "critical_speed" not in ctx.cache:
         ctx.cache["critical_speed"] = critical_speed_bisection(ctx, row)
-    vc = ctx.cache["critical_speed"]
-    thr = float(row["threshold"])
-    ctx.check(row["id"], vc > thr if above else vc < thr, vc, f"{'>' if above else '<'} {thr:g}", "m/s",
-              row["justification"])
+    _bound(ctx, row, ctx.cache["critical_speed"], above, "m/s", row["justification"])
 
 
 def _identify_creep_coefficients(ctx: Context, row: dict, wheelsets: Sequence[str]) -> tuple[float, float]:
