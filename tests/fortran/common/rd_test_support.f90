@@ -9,7 +9,7 @@ module rd_test_support
   use rd_error, only: error_t
   implicit none
   private
-  public :: check, check_close, check_status, stop_on, fail, failure_count, test_summary
+  public :: check, check_close, check_status, stop_on, fail, failure_count, test_summary, file_text
 
   integer :: n_checks = 0
   integer :: n_failures = 0
@@ -98,4 +98,21 @@ contains
     write (*, '(a,i0,a)') program_name // ': all ', n_checks, ' checks passed'
   end subroutine test_summary
 
+  !> The whole of a text file (e.g. a results file's deck copy); a file that cannot be
+  !> opened stops the test.
+  function file_text(path) result(text)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: text
+    integer :: unit, size_bytes, ios
+    open (newunit=unit, file=path, access='stream', form='unformatted', status='old', &
+          action='read', iostat=ios)
+    if (ios /= 0) then
+      write (*, '(a)') 'cannot open ' // path
+      error stop 1
+    end if
+    inquire (unit=unit, size=size_bytes)
+    allocate (character(len=size_bytes) :: text)
+    read (unit) text
+    close (unit)
+  end function file_text
 end module rd_test_support

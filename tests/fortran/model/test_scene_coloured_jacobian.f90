@@ -31,7 +31,7 @@
 program test_scene_coloured_jacobian
   use rd_kinds, only: wp
   use rd_error, only: error_t
-  use rd_test_support, only: check, stop_on, test_summary
+  use rd_test_support, only: check, stop_on, test_summary, file_text
   use rd_scene, only: scene_t
   use rd_multibody, only: multibody_t
   use rd_scene_jacobian, only: body_coupling_t, multibody_coupling, distance2_colouring, &
@@ -345,21 +345,4 @@ contains
     call scene%integrator_stats(stats)
     call scene%destroy()
   end subroutine run_to
-
-  ! ---------------------------------------------------------------- helpers
-  function file_text(path) result(text)
-    character(len=*), intent(in) :: path
-    character(len=:), allocatable :: text
-    integer :: unit, size_bytes, ios
-    open (newunit=unit, file=path, access='stream', form='unformatted', status='old', &
-          action='read', iostat=ios)
-    if (ios /= 0) then
-      write (*, '(a)') 'cannot open ' // path
-      error stop 1
-    end if
-    inquire (unit=unit, size=size_bytes)
-    allocate (character(len=size_bytes) :: text)
-    read (unit) text
-    close (unit)
-  end function file_text
 end program test_scene_coloured_jacobian
