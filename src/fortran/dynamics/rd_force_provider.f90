@@ -26,6 +26,7 @@ module rd_force_provider
   contains
     procedure(add_forces_i), deferred :: add_forces
     procedure :: coupled_bodies => unknown_coupling
+    procedure :: wheel_unloaded => no_wheel
   end type force_provider_t
 
   abstract interface
@@ -50,4 +51,13 @@ contains
     allocate (pairs(2, 0))
     known = .false.
   end subroutine unknown_coupling
+
+  !> Whether body `body` has a wheel that carried no normal load at this provider's last
+  !> evaluation (its contact open): the quasi-static normal contact's test for a wheelset
+  !> held by one wheel only (rd_multibody solve_quasi_static). A provider without wheels: no.
+  logical function no_wheel(self, body)
+    class(force_provider_t), intent(in) :: self
+    integer, intent(in) :: body
+    no_wheel = .false.
+  end function no_wheel
 end module rd_force_provider

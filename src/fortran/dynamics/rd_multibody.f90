@@ -24,7 +24,8 @@
 module rd_multibody
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp, standard_gravity
-  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_INTERNAL
+  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_INTERNAL, &
+                      RD_ERR_PHYSICS
   use rd_rotation, only: cross
   use rd_ode_system, only: ode_system_t
   use rd_track_point, only: track_point_t, track_geometry_t
@@ -441,7 +442,7 @@ contains
                 start(2, size(self%bodies)), kappa(size(self%bodies))
     integer :: iteration, i, halvings
     logical :: converged(size(self%bodies)), fresh, qs(size(self%bodies)), accepted(size(self%bodies)), &
-               ptc(size(self%bodies))
+               ptc(size(self%bodies)), lifting(size(self%bodies))
     character(len=32) :: buf
     recoverable = .false.
     loads_ready = .false.
@@ -528,6 +529,27 @@ contains
       where (ptc) kappa = kappa * min(10.0_wp, merit / max(merit_new, tiny(1.0_wp)))
       merit = merit_new
     end do
+    ! not converged. Where a wheel of a wheelset left unbalanced carries no load at the point
+    ! reached, the contact holds that wheelset on one wheel only and its balance, if any, lies
+    ! with that wheel lifted further (a roll moment beyond 2 b Q; flange climb): follow it.
+    lifting = qs .and. .not. converged
+    do i = 1, size(self%bodies)
+      if (lifting(i)) lifting(i) = wheel_unloaded(i)
+    end do
+    if (any(lifting)) then
+      call follow_lift(error)
+      if (allocated(error)) then
+        if (error%code == RD_ERR_PHYSICS) then
+          ! the documented physics stop (exit 3), final: no smaller step removes a balance
+          ! that does not exist short of the lift-off limit
+          call error_context(error, 'quasi-static normal contact: no balance short of the limit')
+          return
+        end if
+        deallocate (error)
+      else if (all(converged .or. lifting)) then
+        return
+      end if
+    end if
     ! not converged: back to where this evaluation started (a retry starts from there too)
     loads_ready = .false.
     call shift_quasi_static(start - reshape([(self%bodies(i)%q0([DOF_Z, DOF_ROLL]), i = 1, size(self%bodies))], &
@@ -538,6 +560,50 @@ contains
                     ' s (a wheelset near lift-off or derailment)')
 
   contains
+
+    logical function wheel_unloaded(ib)
+      integer, intent(in) :: ib
+      integer :: k
+      wheel_unloaded = .false.
+      do k = 1, size(self%providers)
+        if (self%providers(k)%p%wheel_unloaded(ib)) wheel_unloaded = .true.
+      end do
+    end function wheel_unloaded
+
+    !> The balance of the `lifting` bodies with one wheel unloaded, by Newton's method with
+    !> a fresh Jacobian every step (one wheel's contact and the suspension: nearly linear,
+    !> but J is close to singular, det J / (|J11 J22| + |J12 J21|) ~ the suspension's share
+    !> ~1e-3, so a step may be long): each step scaled as a whole to at most follow_step, so
+    !> that it keeps its direction (the roll about the loaded wheel's contact) and the gap
+    !> opens by less than a millimetre a step. On return without error: every lifting body
+    !> is balanced (update below jump_scale), q0 holds that balance and loads_ready is false.
+    !> A physics error of the loads (rd_wheelset_contact: a gap beyond max_wheel_lift, a
+    !> derailment) says the balance lies beyond the limit; any other error or no balance
+    !> within follow_iterations: `error` set, q0 where it stopped (the caller restores it).
+    subroutine follow_lift(error)
+      type(error_t), allocatable, intent(out) :: error
+      integer, parameter :: follow_iterations = 60
+      !> (z [m], roll [rad]): 0.4 mm of a Manchester wheel's gap per step at b = 0.75 m
+      real(wp), parameter :: follow_step(2) = [5.0e-4_wp, 5.0e-4_wp]
+      integer :: k, it
+      real(wp) :: d(2)
+      loads_ready = .false.
+      do it = 1, follow_iterations
+        call quasi_static_jacobian(self, t, y, ydot, r, error)
+        if (allocated(error)) return
+        dp = 0
+        do k = 1, size(self%bodies)
+          if (.not. lifting(k)) cycle
+          d = newton_update(self%qs_jacobian(:, :, k), r(:, k))
+          dp(:, k) = d * minval([1.0_wp, follow_step / max(abs(d), tiny(1.0_wp))])
+        end do
+        if (all(abs(dp) < jump_scale)) return
+        call shift_quasi_static(dp)
+        call quasi_static_residual(self, t, y, ydot, r, error)
+        if (allocated(error)) return
+      end do
+      call make_error(error, RD_ERR_RUNTIME, 'no balance with a wheel unloaded')
+    end subroutine follow_lift
 
     !> Move every quasi-static body's (z, roll) by d and update their kinematics.
     subroutine shift_quasi_static(d)

@@ -91,6 +91,7 @@ module rd_wheelset_contact
     procedure :: evaluate => wheelset_contact_evaluate
     procedure :: wheelset_count
     procedure :: coupled_bodies => wheelset_contact_coupled_bodies
+    procedure :: wheel_unloaded => wheelset_contact_wheel_unloaded
   end type wheelset_contact_t
 
 contains
@@ -207,6 +208,21 @@ contains
     end do
     known = .true.
   end subroutine wheelset_contact_coupled_bodies
+
+  !> force_provider_t: body `body` is a wheelset one of whose wheels, at the last evaluation,
+  !> had its contact open (gap, no patch) or carried at most q_min of vertical load.
+  logical function wheelset_contact_wheel_unloaded(self, body) result(unloaded)
+    class(wheelset_contact_t), intent(in) :: self
+    integer, intent(in) :: body
+    integer :: i
+    unloaded = .false.
+    do i = 1, self%wheelset_count()
+      if (self%models(i)%body /= body) cycle
+      associate (w => self%results(i)%wheel)
+        unloaded = any(w%n_patches == 0 .or. w%max_penetration <= 0 .or. w%force_track(3) <= q_min)
+      end associate
+    end do
+  end function wheelset_contact_wheel_unloaded
 
   !> force_provider_t: add every wheelset's contact force and moment to its body's load,
   !> and the reaction of each wheel to its rail body (if any).
