@@ -105,6 +105,7 @@ module rd_multibody
     procedure :: body_output_fixed
     procedure :: element_output
     procedure :: set_override_load
+    procedure :: quasi_static_balance
   end type multibody_t
 
 contains
@@ -1061,4 +1062,31 @@ contains
     call self%override%set(ib, force, moment, error)
     if (allocated(error)) call error_context(error, 'multibody%set_override_load')
   end subroutine set_override_load
+
+  !> The quasi-static balance's residual (z'', roll'' of every quasi-static body, relative,
+  !> rates zero) with the quasi-static coordinates at `zr(:, i)` = (z, roll) of body i
+  !> (bodies without quasi-static coordinates: ignored) and everything else from (t, y):
+  !> what solve_quasi_static drives to zero, at a pose of the caller's choosing (studies of
+  !> the balance, tests). The bodies' q0 keep zr afterwards; the next rhs starts from there.
+  subroutine quasi_static_balance(self, t, y, zr, r, error)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:), zr(:, :)
+    real(wp), intent(out) :: r(:, :)
+    type(error_t), allocatable, intent(out) :: error
+    real(wp) :: ydot(size(y))
+    integer :: i
+    if (size(y) /= self%state_size() .or. size(zr, 2) /= size(self%bodies) .or. size(r, 2) /= size(self%bodies)) then
+      call make_error(error, RD_ERR_INTERNAL, 'multibody%quasi_static_balance: wrong array sizes'); return
+    end if
+    call self%evaluate_kinematics(t, y)
+    do i = 1, size(self%bodies)
+      if (.not. any(self%bodies(i)%quasi_static)) cycle
+      self%bodies(i)%q0(DOF_Z) = zr(1, i)
+      self%bodies(i)%q0(DOF_ROLL) = zr(2, i)
+    end do
+    call update_quasi_static_kinematics(self, t, y)
+    ydot = 0
+    call quasi_static_residual(self, t, y, ydot, r, error)
+  end subroutine quasi_static_balance
 end module rd_multibody
