@@ -84,9 +84,9 @@ contains
   end subroutine line_cone_max_depth
 
   !> line_cone_max_depth with the cone's slope k = (r2 - r1)/(y2 - y1) given (y2 > y1 is
-  !> the caller's to ensure): the strip search takes k from the wheel surface, where it is
-  !> computed once per segment (rd_contact_surfaces, wheel_surface_t%cone_slope), instead
-  !> of dividing for every rail line and cone. Same operations otherwise, same result.
+  !> the caller's to ensure). The strip search (rd_strip_contact, strip_depths) writes these
+  !> operations out in its hot loop, with k from the wheel surface (wheel_surface_t%cone_slope),
+  !> so that they are inlined: a change here must be made there too.
   pure subroutine line_cone_max_depth_slope(t0, rho_min, py0, a, dy, y1, r1, y2, k, found, depth, tau)
     real(wp), intent(in) :: t0, rho_min, py0, a, dy, y1, r1, y2, k
     logical, intent(out) :: found

@@ -13,7 +13,7 @@ module rd_strip_contact
   use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t, locate
   use rd_contact_patch, only: patch_geometry_t, wheel_contact_t, MAX_PATCHES, &
     PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
-  use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
+  use rd_line_cone, only: line_cone_roots
   implicit none
   private
   public :: strip_wheel_contact
@@ -64,12 +64,10 @@ contains
 
     ! No clearing of the scratch arrays (it cost more than the search on a fine rail, 2563
     ! lines at 0.05 mm): only ilo..ihi is read, every strip there is either evaluated
-    ! (evaluate_line sets all four) or interpolated (delta only: tline, pw and jseg are read
+    ! (strip_depths sets all four) or interpolated (delta only: tline, pw and jseg are read
     ! only at penetrating strips and their neighbours, which are always evaluated).
     if (full_search .or. ihi - ilo < 4 * rail%coarse_stride) then
-      do i = ilo, ihi
-        call evaluate_line(i, delta, tline, pw, jseg, jprev)
-      end do
+      call evaluate_lines(ilo, ihi, 1, delta, tline, pw, jseg, jprev)
     else
       ! Coarse-to-fine: every rail%coarse_stride-th strip first; the strips between two coarse
       ! ones are evaluated only if one of them is within coarse_gap of touching, otherwise
@@ -80,19 +78,12 @@ contains
       do i = 1, min(rail%coarse_stride, size(wstep)) - 1
         wstep(i) = real(i, wp) / rail%coarse_stride
       end do
-      i = ilo
-      do
-        call evaluate_line(i, delta, tline, pw, jseg, jprev)
-        if (i == ihi) exit
-        i = min(i + rail%coarse_stride, ihi)
-      end do
+      call evaluate_lines(ilo, ihi, rail%coarse_stride, delta, tline, pw, jseg, jprev)
       i1 = ilo
       do while (i1 < ihi)
         i2 = min(i1 + rail%coarse_stride, ihi)
         if (max(delta(i1), delta(i2)) > -coarse_gap) then
-          do i = i1 + 1, i2 - 1
-            call evaluate_line(i, delta, tline, pw, jseg, jprev)
-          end do
+          if (i2 - i1 > 1) call evaluate_lines(i1 + 1, i2 - 1, 1, delta, tline, pw, jseg, jprev)
         else
           d1 = delta(i1); dd = delta(i2) - delta(i1)
           if (i2 - i1 == rail%coarse_stride .and. rail%coarse_stride <= size(wstep)) then
@@ -248,103 +239,15 @@ contains
       patch(iw)%share = wn
     end subroutine add_patch
 
-    !> Deepest penetration of rail line i into the wheel (strip i).
-    pure subroutine evaluate_line(i, delta, tline, pw, jseg, jprev)
-      integer, intent(in) :: i
-      real(wp), contiguous, intent(inout) :: delta(:), tline(:), pw(:, :)
-      integer, contiguous, intent(inout) :: jseg(:)
-      integer, intent(inout) :: jprev
-      real(wp) :: rel(3), p0(3), proj, t0, rho, py0, pz0, px0, half, best, dep, tau, taub, k, pyb, wy
-      integer :: j, jlo, jhi, jb, step
-      logical :: found
-      rel(2) = rail%y(i) - y
-      rel(3) = rail%z(i) - z
-      p0 = bt(:, 2) * rel(2) + bt(:, 3) * rel(3)     ! B^T rel, rel(1) = 0
-      proj = p0(1) * d(1) + p0(3) * d(3)
-      t0 = -proj / a**2                   ! closest approach of the line to the axle
-      px0 = p0(1) + t0 * d(1)
-      pz0 = p0(3) + t0 * d(3)
-      py0 = p0(2) + t0 * d(2)
-      if (pz0 >= 0) then                  ! above the axle: not the running surface
-        delta(i) = -huge(1.0_wp); tline(i) = 0; pw(:, i) = 0; jseg(i) = 1
-        return
-      end if
-      rho = sqrt(px0**2 + pz0**2)
-      jprev = hunt(wheel%y, py0, jprev)       ! lines come in lateral order: O(1) search
-      best = -huge(1.0_wp); jb = jprev; taub = 0
-      if (rho < wheel%r_max .and. py0 > wheel%y(1) - 0.2_wp .and. py0 < wheel%y(wheel%n) + 0.2_wp) then
-        if (full_search) then
-          ! every cone the line can reach: rho(t) < r_max bounds |t - t0|, hence p_y
-          half = abs(d(2)) * sqrt(wheel%r_max**2 - rho**2) / a
-          jlo = locate(wheel%y, py0 - half)
-          jhi = locate(wheel%y, py0 + half)
-          do j = jlo, jhi
-            call cone_depth(j, t0, rho, py0, found, dep, tau)
-            if (found .and. dep > best) then
-              best = dep; jb = j; taub = tau
-            end if
-          end do
-        else
-          ! Hill climb from the cone under the closest approach: the depth is concave on
-          ! each cone, so when its maximum sits on a cone's edge the maximum along the line
-          ! continues on the neighbouring cone (thesis 4.7.1.5: alpha < 0 -> segment j-1,
-          ! alpha > 1 -> j+1). The stationary point lies rho k dy^2 / a^2 from p_y(t0),
-          ! a few segments at most on a yawed flange.
-          j = jprev
-          call cone_depth(j, t0, rho, py0, found, dep, tau)
-          if (found) then
-            best = dep; jb = j; taub = tau
-            do step = 1, wheel%n
-              pyb = py0 + d(2) * taub
-              if (pyb >= wheel%y(jb + 1) .and. jb < wheel%n - 1) then
-                j = jb + 1
-              else if (pyb <= wheel%y(jb) .and. jb > 1) then
-                j = jb - 1
-              else
-                exit
-              end if
-              call cone_depth(j, t0, rho, py0, found, dep, tau)
-              if (.not. (found .and. dep > best)) exit
-              best = dep; jb = j; taub = tau
-            end do
-          end if
-        end if
-      end if
-      if (best == -huge(1.0_wp)) then
-        ! far away: the radial gap is enough. The wheel radius at py0 is wheel_radius_at's
-        ! interpolation on segment jprev (= jb here): hunt finds the segment locate would.
-        wy = (py0 - wheel%y(jb)) / (wheel%y(jb + 1) - wheel%y(jb))
-        wy = min(max(wy, 0.0_wp), 1.0_wp)
-        best = wheel%r(jb) + wy * (wheel%r(jb + 1) - wheel%r(jb)) - rho
-        taub = 0
-      end if
-      ! radial depth -> depth normal to the wheel surface (thesis 4.75-4.76: delta ~ d
-      ! cos(gamma_s)), with the profile slope interpolated between the points at the deepest
-      ! point: the chord slope of the cone would jump where the deepest point crosses a
-      ! profile point (a 2 % jump of the depth on the flange, where tan(gamma_s) ~ 2.4).
-      wy = (py0 + d(2) * taub - wheel%y(jb)) / (wheel%y(jb + 1) - wheel%y(jb))
-      wy = min(max(wy, 0.0_wp), 1.0_wp)
-      k = wheel%slope(jb) + wy * (wheel%slope(jb + 1) - wheel%slope(jb))
-      delta(i) = best / sqrt(1 + k**2)
-      tline(i) = t0 + taub
-      pw(:, i) = p0 + tline(i) * d
-      jseg(i) = jb
-    end subroutine evaluate_line
-
-    !> Deepest point of the line (t0, rho, py0) on cone j: rd_line_cone's
-    !> line_cone_max_depth with the cone slope precomputed in the wheel surface.
-    pure subroutine cone_depth(j, t0, rho, py0, found, dep, tau)
-      integer, intent(in) :: j
-      real(wp), intent(in) :: t0, rho, py0
-      logical, intent(out) :: found
-      real(wp), intent(out) :: dep, tau
-      if (wheel%y(j + 1) > wheel%y(j)) then
-        call line_cone_max_depth_slope(t0, rho, py0, a, d(2), wheel%y(j), wheel%r(j), wheel%y(j + 1), &
-                                       wheel%cone_slope(j), found, dep, tau)
-      else                                  ! (as line_cone_max_depth: no cone)
-        found = .false.; dep = -huge(1.0_wp); tau = 0
-      end if
-    end subroutine cone_depth
+    !> Strips first, first + stride, ..., last (and last itself): strip_depths on this pose.
+    pure subroutine evaluate_lines(first, last, stride, delta, tline, pw, jseg, jprev)
+      integer, intent(in) :: first, last, stride
+      real(wp), intent(inout) :: delta(:), tline(:), pw(:, :)
+      integer, intent(inout) :: jseg(:), jprev
+      call strip_depths(first, last, stride, wheel%n, wheel%y, wheel%r, wheel%slope, wheel%cone_slope, &
+                        wheel%r_max, rail%n, rail%y, rail%z, bt, d, a, y, z, full_search, &
+                        delta, tline, pw, jseg, jprev)
+    end subroutine evaluate_lines
 
     !> Patch over the stretch a..b (peak strip kc) of the run r1..r2, penetration pen.
     pure subroutine fill_patch(p, a, b, kc, pen, r1, r2)
@@ -491,13 +394,184 @@ contains
 
   end subroutine strip_wheel_contact
 
+  !> Deepest penetration of the rail lines first, first + stride, ..., last (and last
+  !> itself) into the wheel (strips i): delta(i) normal to the wheel surface, the line
+  !> parameter tline(i) and wheel point pw(:, i) of the deepest point and its cone jseg(i).
+  !> The wheel and rail arrays come as explicit-shape dummies (wheel%y ... of the surfaces,
+  !> contiguous: no copies) and the pose as B^T (bt), the track x axis d = bt(:, 1) and
+  !> a = |(d1, d3)|, so that the compiler sees plain arrays in this loop, the hot path of the
+  !> online geometry (docs/performance.md). The cone depth of rd_line_cone's
+  !> line_cone_max_depth_slope is written out in cone_depth below with the same operations,
+  !> so that it is inlined: same results bit for bit.
+  pure subroutine strip_depths(first, last, stride, nw, wy, wr, wslope, wcone, r_max, nr, ry, rz, &
+                               bt, d, a, y, z, full_search, delta, tline, pw, jseg, jprev)
+    integer, intent(in) :: first, last, stride, nw, nr
+    real(wp), intent(in) :: wy(nw), wr(nw), wslope(nw), wcone(nw - 1), r_max, ry(nr), rz(nr)
+    real(wp), intent(in) :: bt(3, 3), d(3), a, y, z
+    logical, intent(in) :: full_search
+    real(wp), intent(inout) :: delta(nr), tline(nr), pw(3, nr)
+    integer, intent(inout) :: jseg(nr), jprev
+    !> as line_cone_max_depth_slope's inside_margin
+    real(wp), parameter :: inside_margin = 1.0e-9_wp
+    real(wp) :: rel2, rel3, p0(3), proj, t0, rho, py0, pz0, px0, half, best, dep, tau, taub, k, pyb, ww
+    real(wp) :: a2, dy, y1, y2, kc, c, py
+    integer :: i, j, jlo, jhi, jb, step
+    logical :: found, inside
+    a2 = a**2
+    dy = d(2)
+    i = first
+    do
+      rel2 = ry(i) - y
+      rel3 = rz(i) - z
+      p0 = bt(:, 2) * rel2 + bt(:, 3) * rel3     ! B^T rel, rel(1) = 0
+      proj = p0(1) * d(1) + p0(3) * d(3)
+      t0 = -proj / a**2                   ! closest approach of the line to the axle
+      px0 = p0(1) + t0 * d(1)
+      pz0 = p0(3) + t0 * d(3)
+      py0 = p0(2) + t0 * d(2)
+      if (pz0 >= 0) then                  ! above the axle: not the running surface
+        delta(i) = -huge(1.0_wp); tline(i) = 0; pw(:, i) = 0; jseg(i) = 1
+      else
+        rho = sqrt(px0**2 + pz0**2)
+        jprev = hunt_segment(nw, wy, py0, jprev)   ! lines come in lateral order: O(1) search
+        best = -huge(1.0_wp); jb = jprev; taub = 0
+        if (rho < r_max .and. py0 > wy(1) - 0.2_wp .and. py0 < wy(nw) + 0.2_wp) then
+          if (full_search) then
+            ! every cone the line can reach: rho(t) < r_max bounds |t - t0|, hence p_y
+            half = abs(d(2)) * sqrt(r_max**2 - rho**2) / a
+            jlo = locate(wy, py0 - half)
+            jhi = locate(wy, py0 + half)
+            do j = jlo, jhi
+              call cone_depth(j, found, dep, tau)
+              if (found .and. dep > best) then
+                best = dep; jb = j; taub = tau
+              end if
+            end do
+          else
+            ! Hill climb from the cone under the closest approach: the depth is concave on
+            ! each cone, so when its maximum sits on a cone's edge the maximum along the line
+            ! continues on the neighbouring cone (thesis 4.7.1.5: alpha < 0 -> segment j-1,
+            ! alpha > 1 -> j+1). The stationary point lies rho k dy^2 / a^2 from p_y(t0),
+            ! a few segments at most on a yawed flange.
+            ! (cone_depth written out here, the common path in the hot loop; step 0 is the
+            ! cone under the closest approach, taken whenever found)
+            j = jprev
+            do step = 0, nw
+              y1 = wy(j); y2 = wy(j + 1)
+              if (.not. (y2 > y1)) exit                      ! no cone: not found
+              kc = wcone(j)
+              c = kc * dy
+              inside = .false.
+              if (dy /= 0 .and. abs(c) < a) then
+                tau = c * rho / (a * sqrt(a2 - c**2))
+                py = py0 + dy * tau
+                inside = py > y1 + inside_margin .and. py < y2 - inside_margin
+              end if
+              if (.not. inside) then
+                call cone_depth(j, found, dep, tau)
+                if (.not. found) exit
+              else
+                dep = wr(j) + kc * (py0 + dy * tau - y1) - sqrt(rho**2 + (a * tau)**2)
+                if (t0 /= t0) dep = t0   ! propagate a NaN pose instead of hiding it
+              end if
+              if (step > 0) then
+                if (.not. (dep > best)) exit
+              end if
+              best = dep; jb = j; taub = tau
+              if (step == nw) exit
+              pyb = py0 + dy * taub
+              if (pyb >= wy(jb + 1) .and. jb < nw - 1) then
+                j = jb + 1
+              else if (pyb <= wy(jb) .and. jb > 1) then
+                j = jb - 1
+              else
+                exit
+              end if
+            end do
+          end if
+        end if
+        if (best == -huge(1.0_wp)) then
+          ! far away: the radial gap is enough. The wheel radius at py0 is wheel_radius_at's
+          ! interpolation on segment jprev (= jb here): the hunt finds the segment locate would.
+          ww = (py0 - wy(jb)) / (wy(jb + 1) - wy(jb))
+          ww = min(max(ww, 0.0_wp), 1.0_wp)
+          best = wr(jb) + ww * (wr(jb + 1) - wr(jb)) - rho
+          taub = 0
+        end if
+        ! radial depth -> depth normal to the wheel surface (thesis 4.75-4.76: delta ~ d
+        ! cos(gamma_s)), with the profile slope interpolated between the points at the deepest
+        ! point: the chord slope of the cone would jump where the deepest point crosses a
+        ! profile point (a 2 % jump of the depth on the flange, where tan(gamma_s) ~ 2.4).
+        ww = (py0 + d(2) * taub - wy(jb)) / (wy(jb + 1) - wy(jb))
+        ww = min(max(ww, 0.0_wp), 1.0_wp)
+        k = wslope(jb) + ww * (wslope(jb + 1) - wslope(jb))
+        delta(i) = best / sqrt(1 + k**2)
+        tline(i) = t0 + taub
+        pw(:, i) = p0 + tline(i) * d
+        jseg(i) = jb
+      end if
+      if (i == last) exit
+      i = min(i + stride, last)
+    end do
+
+  contains
+
+    !> Deepest point of the line (t0, rho, py0) on cone j: rd_line_cone's
+    !> line_cone_max_depth_slope (its documentation) with the cone slope of the wheel
+    !> surface, operation for operation; found = .false. where no cone (y(j+1) <= y(j)).
+    pure subroutine cone_depth(j, found, dep, tau)
+      integer, intent(in) :: j
+      logical, intent(out) :: found
+      real(wp), intent(out) :: dep, tau
+      !> as line_cone_max_depth_slope's inside_margin
+      real(wp), parameter :: inside_margin = 1.0e-9_wp
+      real(wp) :: kc, c, ta, tb, tmp, py, y1, y2, dy
+      logical :: inside
+      found = .false.; dep = -huge(1.0_wp); tau = 0
+      y1 = wy(j); y2 = wy(j + 1)
+      if (.not. (y2 > y1)) return
+      kc = wcone(j)
+      dy = d(2)
+      c = kc * dy
+      inside = .false.
+      if (dy /= 0 .and. abs(c) < a) then
+        tau = c * rho / (a * sqrt(a**2 - c**2))
+        py = py0 + dy * tau
+        inside = py > y1 + inside_margin .and. py < y2 - inside_margin
+      end if
+      if (.not. inside) then
+        if (dy /= 0) then
+          ta = (y1 - py0) / dy
+          tb = (y2 - py0) / dy
+          if (ta > tb) then
+            tmp = ta; ta = tb; tb = tmp
+          end if
+        else
+          if (py0 < y1 .or. py0 > y2) return
+          ta = -huge(1.0_wp); tb = huge(1.0_wp)
+        end if
+        if (abs(c) < a) then
+          tau = c * rho / (a * sqrt(a**2 - c**2))
+        else if (c > 0) then
+          tau = tb
+        else
+          tau = ta
+        end if
+        tau = min(max(tau, ta), tb)
+      end if
+      found = .true.
+      dep = wr(j) + kc * (py0 + dy * tau - y1) - sqrt(rho**2 + (a * tau)**2)
+      if (t0 /= t0) dep = t0   ! propagate a NaN pose instead of hiding it
+    end subroutine cone_depth
+
+  end subroutine strip_depths
+
   !> Index j with y(j) <= x < y(j+1) (clamped to [1, n-1]), walking from a guess.
-  pure integer function hunt(y, x, jguess) result(j)
-    real(wp), contiguous, intent(in) :: y(:)
+  pure integer function hunt_segment(n, y, x, jguess) result(j)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: y(n)
     real(wp), intent(in) :: x
     integer, intent(in) :: jguess
-    integer :: n
-    n = size(y)
     j = min(max(jguess, 1), n - 1)
     if (abs(x - y(j)) > 64 * (y(min(j + 1, n)) - y(j))) then
       j = locate(y, x)                      ! far: bisection
@@ -511,7 +585,7 @@ contains
       if (x < y(j + 1)) exit
       j = j + 1
     end do
-  end function hunt
+  end function hunt_segment
 
   pure function lerp3(u, v, w) result(r)
     real(wp), intent(in) :: u(3), v(3), w
