@@ -110,22 +110,30 @@ contains
     ! positive yet, so that patches appear with zero penetration.
     ! One pass also notes the first and last marked strip, so that the patch scan below
     ! covers the contact region only instead of the whole window again.
+    ! (Both tests of a strip inside the window without branches: most strips are neither
+    ! a maximum nor positive, and a branch on each comparison was mispredicted often.)
     ifirst = 0; ilast = -1
     do i = ilo, ihi
       is_pos = delta(i) > 0
-      is_max = .true.
-      if (i > ilo) is_max = .not. (delta(i) < delta(i - 1))
-      if (is_max .and. i < ihi) is_max = .not. (delta(i) <= delta(i + 1))
-      if (is_max) then
-        dep = refined_peak(delta, i, ilo, ihi)
-        res%max_penetration = max(res%max_penetration, dep)
-        if (dep > 0) is_pos = .true.
+      if (i > ilo .and. i < ihi) then
+        is_max = .not. (delta(i) < delta(i - 1)) .and. .not. (delta(i) <= delta(i + 1))
+      else
+        is_max = .true.
+        if (i > ilo) is_max = .not. (delta(i) < delta(i - 1))
+        if (is_max .and. i < ihi) is_max = .not. (delta(i) <= delta(i + 1))
+      end if
+      if (is_max .or. is_pos) then
+        if (is_max) then
+          dep = refined_peak(delta, i, ilo, ihi)
+          res%max_penetration = max(res%max_penetration, dep)
+          if (dep > 0) is_pos = .true.
+        end if
+        if (is_pos) then
+          if (ifirst == 0) ifirst = i
+          ilast = i
+        end if
       end if
       pos(i) = is_pos
-      if (is_pos) then
-        if (ifirst == 0) ifirst = i
-        ilast = i
-      end if
     end do
 
     ! Patches. A run of penetrating strips may hold several bumps of the gap function (tread
@@ -397,12 +405,22 @@ contains
   !> Deepest penetration of the rail lines first, first + stride, ..., last (and last
   !> itself) into the wheel (strips i): delta(i) normal to the wheel surface, the line
   !> parameter tline(i) and wheel point pw(:, i) of the deepest point and its cone jseg(i).
-  !> The wheel and rail arrays come as explicit-shape dummies (wheel%y ... of the surfaces,
-  !> contiguous: no copies) and the pose as B^T (bt), the track x axis d = bt(:, 1) and
-  !> a = |(d1, d3)|, so that the compiler sees plain arrays in this loop, the hot path of the
-  !> online geometry (docs/performance.md). The cone depth of rd_line_cone's
-  !> line_cone_max_depth_slope is written out in cone_depth below with the same operations,
-  !> so that it is inlined: same results bit for bit.
+  !>
+  !> The hot path of the online geometry (docs/performance.md), written for the processor:
+  !> - explicit-shape arrays (wheel%y ... of the surfaces, contiguous: no copies) and the pose
+  !>   as B^T (bt), the track x axis d = bt(:, 1) and a = |(d1, d3)|;
+  !> - the lines in blocks of `block` and each block in passes over independent lines
+  !>   (closest approach to the axle; the cone under it; depth on that cone; normal depth),
+  !>   so that the square roots and divisions of neighbouring lines overlap instead of
+  !>   each line waiting for its own chain of them (a line's result depends on that line
+  !>   alone: the hunt's guess changes how fast its segment is found, not which);
+  !> - the cone depth of rd_line_cone's line_cone_max_depth_slope written out with the same
+  !>   operations for the common case (the depth's stationary point inside the cone under the
+  !>   closest approach, where the hill climb stops at once); every other line (clamped to a
+  !>   cone edge, climbing to a neighbouring cone, the exhaustive search) takes line_depth,
+  !>   the general search.
+  !> Every line gets the operations it got in one loop, in the same order: the results are
+  !> the same bit for bit.
   pure subroutine strip_depths(first, last, stride, nw, wy, wr, wslope, wcone, r_max, nr, ry, rz, &
                                bt, d, a, y, z, full_search, delta, tline, pw, jseg, jprev)
     integer, intent(in) :: first, last, stride, nw, nr
@@ -413,118 +431,179 @@ contains
     integer, intent(inout) :: jseg(nr), jprev
     !> as line_cone_max_depth_slope's inside_margin
     real(wp), parameter :: inside_margin = 1.0e-9_wp
-    real(wp) :: rel2, rel3, p0(3), proj, t0, rho, py0, pz0, px0, half, best, dep, tau, taub, k, pyb, ww
-    real(wp) :: a2, dy, y1, y2, kc, c, py
-    integer :: i, j, jlo, jhi, jb, step
-    logical :: found, inside
+    !> lines per block (scratch on the stack)
+    integer, parameter :: block = 64
+    !> line states: above the axle; far from the wheel; depth found on the hunted cone
+    !> (inside); the general search needed
+    integer, parameter :: ABOVE = 0, FAR = 1, INSIDE = 2, GENERAL = 3
+    real(wp) :: p0(3, block), t0(block), py0(block), pz0(block), rho(block), best(block), taub(block)
+    integer :: il(block), jh(block), jb(block), state(block)
+    real(wp) :: rel2, rel3, proj, px0, a2, dy, y1, y2, kc, c, tau, py, ww, k, tl, ylo_far, yhi_far
+    integer :: m, n, i, inext
     a2 = a**2
     dy = d(2)
-    i = first
-    do
-      rel2 = ry(i) - y
-      rel3 = rz(i) - z
-      p0 = bt(:, 2) * rel2 + bt(:, 3) * rel3     ! B^T rel, rel(1) = 0
-      proj = p0(1) * d(1) + p0(3) * d(3)
-      t0 = -proj / a**2                   ! closest approach of the line to the axle
-      px0 = p0(1) + t0 * d(1)
-      pz0 = p0(3) + t0 * d(3)
-      py0 = p0(2) + t0 * d(2)
-      if (pz0 >= 0) then                  ! above the axle: not the running surface
-        delta(i) = -huge(1.0_wp); tline(i) = 0; pw(:, i) = 0; jseg(i) = 1
-      else
-        rho = sqrt(px0**2 + pz0**2)
-        jprev = hunt_segment(nw, wy, py0, jprev)   ! lines come in lateral order: O(1) search
-        best = -huge(1.0_wp); jb = jprev; taub = 0
-        if (rho < r_max .and. py0 > wy(1) - 0.2_wp .and. py0 < wy(nw) + 0.2_wp) then
-          if (full_search) then
-            ! every cone the line can reach: rho(t) < r_max bounds |t - t0|, hence p_y
-            half = abs(d(2)) * sqrt(r_max**2 - rho**2) / a
-            jlo = locate(wy, py0 - half)
-            jhi = locate(wy, py0 + half)
-            do j = jlo, jhi
-              call cone_depth(j, found, dep, tau)
-              if (found .and. dep > best) then
-                best = dep; jb = j; taub = tau
-              end if
-            end do
+    ylo_far = wy(1) - 0.2_wp
+    yhi_far = wy(nw) + 0.2_wp
+    inext = first
+    do while (inext > 0)
+      ! the next block of lines
+      n = 0
+      do while (n < block .and. inext > 0)
+        n = n + 1
+        il(n) = inext
+        if (inext == last) then
+          inext = 0
+        else
+          inext = min(inext + stride, last)
+        end if
+      end do
+      ! closest approach of each line to the axle
+      do m = 1, n
+        i = il(m)
+        rel2 = ry(i) - y
+        rel3 = rz(i) - z
+        p0(:, m) = bt(:, 2) * rel2 + bt(:, 3) * rel3     ! B^T rel, rel(1) = 0
+        proj = p0(1, m) * d(1) + p0(3, m) * d(3)
+        t0(m) = -proj / a**2                ! closest approach of the line to the axle
+        px0 = p0(1, m) + t0(m) * d(1)
+        pz0(m) = p0(3, m) + t0(m) * d(3)
+        py0(m) = p0(2, m) + t0(m) * d(2)
+        rho(m) = sqrt(px0**2 + pz0(m)**2)
+      end do
+      ! the cone under it (lines come in lateral order: O(1) search); above the axle is not
+      ! the running surface
+      do m = 1, n
+        if (pz0(m) >= 0) then
+          state(m) = ABOVE
+        else
+          jprev = hunt_segment(nw, wy, py0(m), jprev)
+          jh(m) = jprev
+          if (rho(m) < r_max .and. py0(m) > ylo_far .and. py0(m) < yhi_far) then
+            state(m) = GENERAL
           else
-            ! Hill climb from the cone under the closest approach: the depth is concave on
-            ! each cone, so when its maximum sits on a cone's edge the maximum along the line
-            ! continues on the neighbouring cone (thesis 4.7.1.5: alpha < 0 -> segment j-1,
-            ! alpha > 1 -> j+1). The stationary point lies rho k dy^2 / a^2 from p_y(t0),
-            ! a few segments at most on a yawed flange.
-            ! (cone_depth written out here, the common path in the hot loop; step 0 is the
-            ! cone under the closest approach, taken whenever found)
-            j = jprev
-            do step = 0, nw
-              y1 = wy(j); y2 = wy(j + 1)
-              if (.not. (y2 > y1)) exit                      ! no cone: not found
-              kc = wcone(j)
-              c = kc * dy
-              inside = .false.
-              if (dy /= 0 .and. abs(c) < a) then
-                tau = c * rho / (a * sqrt(a2 - c**2))
-                py = py0 + dy * tau
-                inside = py > y1 + inside_margin .and. py < y2 - inside_margin
-              end if
-              if (.not. inside) then
-                call cone_depth(j, found, dep, tau)
-                if (.not. found) exit
-              else
-                dep = wr(j) + kc * (py0 + dy * tau - y1) - sqrt(rho**2 + (a * tau)**2)
-                if (t0 /= t0) dep = t0   ! propagate a NaN pose instead of hiding it
-              end if
-              if (step > 0) then
-                if (.not. (dep > best)) exit
-              end if
-              best = dep; jb = j; taub = tau
-              if (step == nw) exit
-              pyb = py0 + dy * taub
-              if (pyb >= wy(jb + 1) .and. jb < nw - 1) then
-                j = jb + 1
-              else if (pyb <= wy(jb) .and. jb > 1) then
-                j = jb - 1
-              else
-                exit
-              end if
-            end do
+            state(m) = FAR
           end if
         end if
-        if (best == -huge(1.0_wp)) then
-          ! far away: the radial gap is enough. The wheel radius at py0 is wheel_radius_at's
-          ! interpolation on segment jprev (= jb here): the hunt finds the segment locate would.
-          ww = (py0 - wy(jb)) / (wy(jb + 1) - wy(jb))
-          ww = min(max(ww, 0.0_wp), 1.0_wp)
-          best = wr(jb) + ww * (wr(jb + 1) - wr(jb)) - rho
-          taub = 0
-        end if
-        ! radial depth -> depth normal to the wheel surface (thesis 4.75-4.76: delta ~ d
-        ! cos(gamma_s)), with the profile slope interpolated between the points at the deepest
-        ! point: the chord slope of the cone would jump where the deepest point crosses a
-        ! profile point (a 2 % jump of the depth on the flange, where tan(gamma_s) ~ 2.4).
-        ww = (py0 + d(2) * taub - wy(jb)) / (wy(jb + 1) - wy(jb))
-        ww = min(max(ww, 0.0_wp), 1.0_wp)
-        k = wslope(jb) + ww * (wslope(jb + 1) - wslope(jb))
-        delta(i) = best / sqrt(1 + k**2)
-        tline(i) = t0 + taub
-        pw(:, i) = p0 + tline(i) * d
-        jseg(i) = jb
+      end do
+      ! the depth on that cone where its stationary point lies inside it (the hill climb of
+      ! line_depth stops there: p_y of the deepest point is inside the cone)
+      if (.not. full_search .and. dy /= 0) then
+        do m = 1, n
+          if (state(m) /= GENERAL) cycle
+          y1 = wy(jh(m)); y2 = wy(jh(m) + 1)
+          if (.not. (y2 > y1)) cycle
+          kc = wcone(jh(m))
+          c = kc * dy
+          if (.not. (abs(c) < a)) cycle
+          tau = c * rho(m) / (a * sqrt(a2 - c**2))
+          py = py0(m) + dy * tau
+          if (py > y1 + inside_margin .and. py < y2 - inside_margin) then
+            best(m) = wr(jh(m)) + kc * (py0(m) + dy * tau - y1) - sqrt(rho(m)**2 + (a * tau)**2)
+            if (t0(m) /= t0(m)) best(m) = t0(m)   ! propagate a NaN pose instead of hiding it
+            jb(m) = jh(m); taub(m) = tau
+            state(m) = INSIDE
+          end if
+        end do
       end if
-      if (i == last) exit
-      i = min(i + stride, last)
+      ! the general search for the rest
+      do m = 1, n
+        if (state(m) == GENERAL) then
+          call line_depth(t0(m), rho(m), py0(m), jh(m), best(m), jb(m), taub(m))
+        else if (state(m) == FAR) then
+          best(m) = -huge(1.0_wp); jb(m) = jh(m); taub(m) = 0
+        end if
+      end do
+      ! radial depth -> depth normal to the wheel surface
+      do m = 1, n
+        i = il(m)
+        if (state(m) == ABOVE) then
+          delta(i) = -huge(1.0_wp); tline(i) = 0; pw(:, i) = 0; jseg(i) = 1
+          cycle
+        end if
+        if (best(m) == -huge(1.0_wp)) then
+          ! far away: the radial gap is enough. The wheel radius at py0 is wheel_radius_at's
+          ! interpolation on the hunted segment (= jb here): the hunt finds the segment
+          ! locate would.
+          ww = (py0(m) - wy(jb(m))) / (wy(jb(m) + 1) - wy(jb(m)))
+          ww = min(max(ww, 0.0_wp), 1.0_wp)
+          best(m) = wr(jb(m)) + ww * (wr(jb(m) + 1) - wr(jb(m))) - rho(m)
+          taub(m) = 0
+        end if
+        ! (thesis 4.75-4.76: delta ~ d cos(gamma_s)), with the profile slope interpolated
+        ! between the points at the deepest point: the chord slope of the cone would jump
+        ! where the deepest point crosses a profile point (a 2 % jump of the depth on the
+        ! flange, where tan(gamma_s) ~ 2.4).
+        ww = (py0(m) + d(2) * taub(m) - wy(jb(m))) / (wy(jb(m) + 1) - wy(jb(m)))
+        ww = min(max(ww, 0.0_wp), 1.0_wp)
+        k = wslope(jb(m)) + ww * (wslope(jb(m) + 1) - wslope(jb(m)))
+        delta(i) = best(m) / sqrt(1 + k**2)
+        tl = t0(m) + taub(m)
+        tline(i) = tl
+        pw(:, i) = p0(:, m) + tl * d
+        jseg(i) = jb(m)
+      end do
     end do
 
   contains
 
+    !> Deepest radial depth `best` of the line (t0, rho, py0) over the wheel's cones, its cone
+    !> jb and line offset taub from t0, starting at the hunted cone jhunt; best = -huge(1.0)
+    !> if none is found.
+    pure subroutine line_depth(t0, rho, py0, jhunt, best, jb, taub)
+      real(wp), intent(in) :: t0, rho, py0
+      integer, intent(in) :: jhunt
+      real(wp), intent(out) :: best, taub
+      integer, intent(out) :: jb
+      real(wp) :: half, dep, tau, pyb
+      integer :: j, jlo, jhi, step
+      logical :: found
+      best = -huge(1.0_wp); jb = jhunt; taub = 0
+      if (full_search) then
+        ! every cone the line can reach: rho(t) < r_max bounds |t - t0|, hence p_y
+        half = abs(d(2)) * sqrt(r_max**2 - rho**2) / a
+        jlo = locate(wy, py0 - half)
+        jhi = locate(wy, py0 + half)
+        do j = jlo, jhi
+          call cone_depth(j, t0, rho, py0, found, dep, tau)
+          if (found .and. dep > best) then
+            best = dep; jb = j; taub = tau
+          end if
+        end do
+      else
+        ! Hill climb from the cone under the closest approach: the depth is concave on
+        ! each cone, so when its maximum sits on a cone's edge the maximum along the line
+        ! continues on the neighbouring cone (thesis 4.7.1.5: alpha < 0 -> segment j-1,
+        ! alpha > 1 -> j+1). The stationary point lies rho k dy^2 / a^2 from p_y(t0),
+        ! a few segments at most on a yawed flange.
+        j = jhunt
+        call cone_depth(j, t0, rho, py0, found, dep, tau)
+        if (found) then
+          best = dep; jb = j; taub = tau
+          do step = 1, nw
+            pyb = py0 + d(2) * taub
+            if (pyb >= wy(jb + 1) .and. jb < nw - 1) then
+              j = jb + 1
+            else if (pyb <= wy(jb) .and. jb > 1) then
+              j = jb - 1
+            else
+              exit
+            end if
+            call cone_depth(j, t0, rho, py0, found, dep, tau)
+            if (.not. (found .and. dep > best)) exit
+            best = dep; jb = j; taub = tau
+          end do
+        end if
+      end if
+    end subroutine line_depth
+
     !> Deepest point of the line (t0, rho, py0) on cone j: rd_line_cone's
     !> line_cone_max_depth_slope (its documentation) with the cone slope of the wheel
     !> surface, operation for operation; found = .false. where no cone (y(j+1) <= y(j)).
-    pure subroutine cone_depth(j, found, dep, tau)
+    pure subroutine cone_depth(j, t0, rho, py0, found, dep, tau)
       integer, intent(in) :: j
+      real(wp), intent(in) :: t0, rho, py0
       logical, intent(out) :: found
       real(wp), intent(out) :: dep, tau
-      !> as line_cone_max_depth_slope's inside_margin
-      real(wp), parameter :: inside_margin = 1.0e-9_wp
       real(wp) :: kc, c, ta, tb, tmp, py, y1, y2, dy
       logical :: inside
       found = .false.; dep = -huge(1.0_wp); tau = 0
