@@ -8,10 +8,13 @@ builds are identical (or prints the largest difference), prints a table and writ
 the section `compare_builds` of docs/performance.md.
 
     python3 bench/compare_builds.py BEFORE_BUILD AFTER_BUILD [--rounds 2]
-        [--scenes manchester_v1_tc1.nml tgv_profile_fastsim.nml] [--label TEXT] [--no-write]
+        [--scenes manchester_v1_tc1.nml tgv_profile_fastsim.nml] [--replay POSES.txt]
+        [--label TEXT] [--no-write]
 
 A build is a build directory (bench/bench_contact_geometry and bin/raildyn inside; build the
-bench with `cmake --build DIR --target bench_contact_geometry raildyn_exe`).
+bench with `cmake --build DIR --target bench_contact_geometry raildyn_exe`). --replay also
+times bench/bench_geometry_replay of both builds on the wheelset poses of POSES.txt
+(bench/geometry_replay/poses.py) and compares their results bitwise.
 """
 import argparse
 import resource
@@ -35,6 +38,18 @@ def bench_rows(exe):
         if len(cells) == 7 and cells[0] in ("strip", "knife edge"):
             rows[(cells[0], cells[1], cells[3])] = float(cells[5])
     return rows
+
+
+def replay_us(exe, poses, dump, passes=3):
+    """us per wheel of one bench_geometry_replay run on poses (best of its passes); every
+    result written bitwise to dump."""
+    out = subprocess.run([str(exe), str(poses), str(passes), str(dump)], capture_output=True,
+                         text=True, check=True).stdout
+    for line in out.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 5 and cells[0].isdigit():
+            return float(cells[3]), int(cells[1])
+    sys.exit(f"{exe}: no result row")
 
 
 def scene_cpu(exe, deck, out):
@@ -77,6 +92,7 @@ def main():
     ap.add_argument("after")
     ap.add_argument("--rounds", type=int, default=2)
     ap.add_argument("--scenes", nargs="*", default=[])
+    ap.add_argument("--replay", default="")
     ap.add_argument("--label", default="")
     ap.add_argument("--no-write", action="store_true")
     args = ap.parse_args()
@@ -98,6 +114,23 @@ def main():
         if key in best[1]:
             t0, t1 = best[0][key], best[1][key]
             lines.append(f"| {key[0]} | {key[1]} | {key[2]} | {t0:.2f} | {t1:.2f} | {t0 / t1:.2f} |")
+
+    if args.replay:
+        lines += ["", "Online strip geometry at the wheelset poses of a run of the acceptance deck "
+                  "(bench/geometry_replay, both wheels per pose): us per wheel, best of the rounds "
+                  "(3 passes each); every result of the two builds compared bitwise.", "",
+                  "| poses | wheel evaluations | before us/wheel | after us/wheel | speed-up | results |",
+                  "|---:|---:|---:|---:|---:|---|"]
+        with tempfile.TemporaryDirectory() as d:
+            tmp = Path(d)
+            us = [np.inf, np.inf]
+            for _ in range(args.rounds):
+                for k, b in enumerate(builds):
+                    t, nwheel = replay_us(b / "bench" / "bench_geometry_replay", args.replay, tmp / f"{k}.bin")
+                    us[k] = min(us[k], t)
+            same = (tmp / "0.bin").read_bytes() == (tmp / "1.bin").read_bytes()
+            verdict = "identical" if same else "DIFFER"
+            lines.append(f"| {nwheel // 2} | {nwheel} | {us[0]:.2f} | {us[1]:.2f} | {us[0] / us[1]:.2f} | {verdict} |")
 
     if args.scenes:
         lines += ["", "Whole scenes: CPU seconds (user + system) of the run, best of the rounds; "
