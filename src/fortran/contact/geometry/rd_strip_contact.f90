@@ -436,9 +436,11 @@ contains
     !> line states: above the axle; far from the wheel; depth found on the hunted cone
     !> (inside); the general search needed
     integer, parameter :: ABOVE = 0, FAR = 1, INSIDE = 2, GENERAL = 3
-    real(wp) :: p0(3, block), t0(block), py0(block), pz0(block), rho(block), best(block), taub(block)
+    real(wp) :: p01(block), p02(block), p03(block), t0(block), py0(block), pz0(block), rho(block)
+    real(wp) :: best(block), taub(block), ryb(block), rzb(block), w1(block), w2(block), s1(block)
+    real(wp) :: s2(block), dl(block), tb(block)
     integer :: il(block), jh(block), jb(block), state(block)
-    real(wp) :: rel2, rel3, proj, px0, a2, dy, y1, y2, kc, c, tau, py, ww, k, tl, ylo_far, yhi_far
+    real(wp) :: rel2, rel3, proj, px0, a2, dy, y1, y2, kc, c, tau, py, ww, k, ylo_far, yhi_far
     integer :: m, n, i, inext
     a2 = a**2
     dy = d(2)
@@ -457,17 +459,22 @@ contains
           inext = min(inext + stride, last)
         end if
       end do
-      ! closest approach of each line to the axle
+      ! closest approach of each line to the axle (vectorised: the rail points gathered first)
       do m = 1, n
-        i = il(m)
-        rel2 = ry(i) - y
-        rel3 = rz(i) - z
-        p0(:, m) = bt(:, 2) * rel2 + bt(:, 3) * rel3     ! B^T rel, rel(1) = 0
-        proj = p0(1, m) * d(1) + p0(3, m) * d(3)
-        t0(m) = -proj / a**2                ! closest approach of the line to the axle
-        px0 = p0(1, m) + t0(m) * d(1)
-        pz0(m) = p0(3, m) + t0(m) * d(3)
-        py0(m) = p0(2, m) + t0(m) * d(2)
+        ryb(m) = ry(il(m)); rzb(m) = rz(il(m))
+      end do
+      !GCC$ vector
+      do m = 1, n
+        rel2 = ryb(m) - y
+        rel3 = rzb(m) - z
+        p01(m) = bt(1, 2) * rel2 + bt(1, 3) * rel3     ! B^T rel, rel(1) = 0
+        p02(m) = bt(2, 2) * rel2 + bt(2, 3) * rel3
+        p03(m) = bt(3, 2) * rel2 + bt(3, 3) * rel3
+        proj = p01(m) * d(1) + p03(m) * d(3)
+        t0(m) = -proj / a2                  ! closest approach of the line to the axle
+        px0 = p01(m) + t0(m) * d(1)
+        pz0(m) = p03(m) + t0(m) * d(3)
+        py0(m) = p02(m) + t0(m) * d(2)
         rho(m) = sqrt(px0**2 + pz0(m)**2)
       end do
       ! the cone under it (lines come in lateral order: O(1) search); above the axle is not
@@ -513,11 +520,12 @@ contains
           best(m) = -huge(1.0_wp); jb(m) = jh(m); taub(m) = 0
         end if
       end do
-      ! radial depth -> depth normal to the wheel surface
+      ! radial depth -> depth normal to the wheel surface; first the far lines' radial gap
+      ! and the points of each line's cone gathered, then the depths (vectorised)
       do m = 1, n
-        i = il(m)
         if (state(m) == ABOVE) then
-          delta(i) = -huge(1.0_wp); tline(i) = 0; pw(:, i) = 0; jseg(i) = 1
+          ! (harmless values for the vector pass; the line gets its own below)
+          best(m) = 0; taub(m) = 0; py0(m) = 0; w1(m) = 0; w2(m) = 1; s1(m) = 0; s2(m) = 0
           cycle
         end if
         if (best(m) == -huge(1.0_wp)) then
@@ -529,18 +537,33 @@ contains
           best(m) = wr(jb(m)) + ww * (wr(jb(m) + 1) - wr(jb(m))) - rho(m)
           taub(m) = 0
         end if
-        ! (thesis 4.75-4.76: delta ~ d cos(gamma_s)), with the profile slope interpolated
-        ! between the points at the deepest point: the chord slope of the cone would jump
-        ! where the deepest point crosses a profile point (a 2 % jump of the depth on the
-        ! flange, where tan(gamma_s) ~ 2.4).
-        ww = (py0(m) + d(2) * taub(m) - wy(jb(m))) / (wy(jb(m) + 1) - wy(jb(m)))
+        w1(m) = wy(jb(m)); w2(m) = wy(jb(m) + 1)
+        s1(m) = wslope(jb(m)); s2(m) = wslope(jb(m) + 1)
+      end do
+      ! (thesis 4.75-4.76: delta ~ d cos(gamma_s)), with the profile slope interpolated
+      ! between the points at the deepest point: the chord slope of the cone would jump
+      ! where the deepest point crosses a profile point (a 2 % jump of the depth on the
+      ! flange, where tan(gamma_s) ~ 2.4).
+      !GCC$ vector
+      do m = 1, n
+        ww = (py0(m) + dy * taub(m) - w1(m)) / (w2(m) - w1(m))
         ww = min(max(ww, 0.0_wp), 1.0_wp)
-        k = wslope(jb(m)) + ww * (wslope(jb(m) + 1) - wslope(jb(m)))
-        delta(i) = best(m) / sqrt(1 + k**2)
-        tl = t0(m) + taub(m)
-        tline(i) = tl
-        pw(:, i) = p0(:, m) + tl * d
-        jseg(i) = jb(m)
+        k = s1(m) + ww * (s2(m) - s1(m))
+        dl(m) = best(m) / sqrt(1 + k**2)
+        tb(m) = t0(m) + taub(m)
+      end do
+      do m = 1, n
+        i = il(m)
+        if (state(m) == ABOVE) then
+          delta(i) = -huge(1.0_wp); tline(i) = 0; pw(:, i) = 0; jseg(i) = 1
+        else
+          delta(i) = dl(m)
+          tline(i) = tb(m)
+          pw(1, i) = p01(m) + tb(m) * d(1)
+          pw(2, i) = p02(m) + tb(m) * d(2)
+          pw(3, i) = p03(m) + tb(m) * d(3)
+          jseg(i) = jb(m)
+        end if
       end do
     end do
 
