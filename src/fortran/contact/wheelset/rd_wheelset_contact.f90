@@ -49,6 +49,8 @@ module rd_wheelset_contact
   !> A contact within this distance of the field-side end of the wheel profile means the
   !> rail has left the tread [m].
   real(wp), parameter :: field_end_margin = 1.0e-3_wp
+  !> Poses kept besides the last one in a wheelset's geometry cache (wheelset_model_t).
+  integer, parameter :: cache_history = 2
 
   !> Parameters of one wheelset's contact (fixed after init).
   type :: wheelset_model_t
@@ -75,6 +77,15 @@ module rd_wheelset_contact
     logical :: cache_valid = .false.
     real(wp) :: cache_pose(8) = 0
     type(wheel_contact_t) :: cache_geo(2)
+    !> The two poses used before it, with their geometry (a pose found here swaps places with
+    !> the last one, which stays cache_pose / cache_geo): the quasi-static solve and the
+    !> output's sub-samples come back to a pose two or three evaluations later. Measured on the
+    !> acceptance deck (docs/performance.md): 11.6 % of the evaluations find their pose in the
+    !> three, 5.0 % in the last one alone. Exact, as the last pose.
+    logical :: history_valid(cache_history) = .false.
+    real(wp) :: history_pose(8, cache_history) = 0
+    type(wheel_contact_t) :: history_geo(2, cache_history)
+    integer :: history_next = 1            !< the history slot the next new pose pushes out
   end type wheelset_model_t
 
   type, extends(force_provider_t) :: wheelset_contact_t
@@ -182,6 +193,7 @@ contains
     if (allocated(self%models)) then
       do i = 1, size(self%models)
         self%models(i)%cache_valid = .false.
+        self%models(i)%history_valid = .false.
       end do
     end if
   end subroutine wheelset_contact_set_irregularity
@@ -277,7 +289,7 @@ contains
     real(wp), intent(out), optional :: wheel_force(3, 2)
     type(wheel_contact_t) :: geo_res(2)
     real(wp) :: fw(3), mw(3), pose(8), v_rail(3, 2)
-    integer :: side, rb
+    integer :: side, rb, k, hist
     force = 0
     moment = 0
     if (present(wheel_force)) wheel_force = 0
@@ -332,9 +344,33 @@ contains
         end if
       end do
       self%rail_offsets(:, i) = pose(5:8)
+      hist = 0
+      if (.not. (m%cache_valid .and. all(pose == m%cache_pose))) then
+        do k = 1, cache_history
+          if (m%history_valid(k)) then
+            if (all(pose == m%history_pose(:, k))) hist = k
+          end if
+          if (hist > 0) exit
+        end do
+      end if
       if (m%cache_valid .and. all(pose == m%cache_pose)) then
         geo_res = m%cache_geo
+      else if (hist > 0) then
+        ! found in the history: it becomes the last pose, the last pose takes its slot
+        geo_res = m%history_geo(:, hist)
+        m%history_geo(:, hist) = m%cache_geo
+        m%history_pose(:, hist) = m%cache_pose
+        m%history_valid(hist) = m%cache_valid
+        m%cache_geo = geo_res
+        m%cache_pose = pose
+        m%cache_valid = .true.
       else
+        if (m%cache_valid) then                ! the last pose goes into the history
+          m%history_geo(:, m%history_next) = m%cache_geo
+          m%history_pose(:, m%history_next) = m%cache_pose
+          m%history_valid(m%history_next) = .true.
+          m%history_next = mod(m%history_next, cache_history) + 1
+        end if
         m%cache_valid = .false.
         call wheelset_contact(m%geo, pose(1), pose(2), pose(3), pose(4), geo_res(1), geo_res(2), error, &
                               rail_offset=reshape(pose(5:8), [2, 2]))
