@@ -53,7 +53,8 @@ Outcome of a run:
   wheel without contact in any output sample (the run's notes) unless the scene is about
   losing contact;
 - physics stop: exit 3 with a documented reason (derailment, wheel lift-off; the runner's
-  message);
+  message) reached by the run (an exit 3 of the static equilibrium solve before t = 0 is a
+  FAILURE: the scene did not run);
 - FAILURE: anything else - a solver failure (exit 2), another exit status, a non-finite value, an
   undocumented exit-3 reason, a spurious contact loss, or a run still going at the wall-clock
   limit (--timeout: a hang).
@@ -487,6 +488,11 @@ def classify(run: Path, scene: Scene) -> Row:
             row.reason = f"largest Y/Q {_max_yq(res):.2f}; {lost_text}"
         else:
             row.outcome, row.reason = "completed", lost_text
+    elif code == 3 and "&simulation 'equilibrium'" in _last_message(run):
+        # the static equilibrium solve before t = 0 hit the limit: the scene never ran, its
+        # physics did not stop it (a lift-off found by the solve at rest is no outcome of the run)
+        row.outcome = "FAILURE"
+        row.reason = "static equilibrium (exit 3 before the run): " + _last_message(run).split("'equilibrium': ", 1)[-1]
     elif code == 3:
         msg = _last_message(run)
         documented = any(k in msg.lower() for k in DOCUMENTED_STOPS)
@@ -602,8 +608,9 @@ def render(rows: list[Row], meta: dict) -> str:
            "Each row is one run of a scene deck (`bench/extremes/scenes/`) with the level's overrides, "
            "run as a campaign (`raildyn.campaign`, local processes). outcome: completed = exit 0, every "
            "value finite, no wheel without contact unless the scene is about losing it; physics stop = "
-           "exit 3 with its documented reason; FAILURE = anything else (solver failure, other exit, "
-           "non-finite value, spurious contact loss, still running at the wall-clock limit); n/a = the "
+           "exit 3 with its documented reason, reached by the run; FAILURE = anything else (solver failure, "
+           "other exit, an exit 3 of the static equilibrium solve before t = 0, non-finite value, spurious "
+           "contact loss, still running at the wall-clock limit); n/a = the "
            "level does not apply. CPU s = user + system seconds of the runner process; RHS = method + "
            "difference-quotient Jacobian calls; t = simulated time reached [s]. 'as expected' compares "
            "the outcome with the scene's physics (flange climb: derailment or inner-wheel lift-off stop; lift-off: lift-off stop; "

@@ -15,7 +15,8 @@ and the classifier's verdict checked against what each run must give:
 And the classifier on results it did not write: a completed run whose results hold a NaN, a
 solver failure (exit 2) and an exit 3 without a documented reason are FAILUREs; a wheel without
 contact is "contact loss" (with the run's largest Y/Q) where no load asks for it, completed in
-the lift-off scene. Not timed: no CPU-second figure is asserted.
+the lift-off scene; a lift-off found by the static equilibrium solve before t = 0 (exit 3) is a
+FAILURE, not the scene's physics stop. Not timed: no CPU-second figure is asserted.
 """
 import importlib.util
 import json
@@ -128,5 +129,12 @@ def test_classifier_on_hand_made_runs(bench, tmp_path):
                        "wheelset contact 1, left wheel, t = 5.1E-01 s: derailment: contact point beyond the flange tip\n")
     row = bench.classify(stop, bench.Scene("flange_climb", "climb", "r80_in", 2.0, expect="derail|lift-off"))
     assert (row.outcome, row.expected) == ("physics stop", True) and row.reason.startswith("wheelset contact 1")
+    # a lift-off found by the static equilibrium solve at rest: the scene never ran
+    static = _run_folder(tmp_path / "static", 3, "raildyn: error: scenes/s.nml:4: &simulation 'equilibrium': "
+                         "static positions: multibody%rhs: wheelset contact 1, left wheel, t = 0.00000E+00 s: "
+                         "wheel lift-off: gap 5.00000E-03 m exceeds the limit 5.00000E-03 m\n")
+    row = bench.classify(static, bench.Scene("flange_climb", "climb", "r80_in", 2.0, expect="derail|lift-off"))
+    assert (row.outcome, row.expected) == ("FAILURE", False)
+    assert row.reason.startswith("static equilibrium (exit 3 before the run): static positions: "), row.reason
     odd = _run_folder(tmp_path / "odd", 3, "raildyn: error: something else\n")
     assert bench.classify(odd, scene).outcome == "FAILURE"
