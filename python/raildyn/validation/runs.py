@@ -88,8 +88,8 @@ def find_executable(exe: str | os.PathLike | None = None) -> Path:
 
 
 #: runner exit statuses (README): 3 = physics limit (derailment, lift-off): results readable
-_EXIT = {0: "completed", 1: "bad input", 2: "solver failure", 3: "physics limit", 4: "file error",
-         5: "internal error"}
+EXIT_OUTCOMES = {0: "completed", 1: "bad input", 2: "solver failure", 3: "physics limit", 4: "file error",
+                 5: "internal error"}
 
 
 @dataclass
@@ -147,7 +147,7 @@ def run_deck(deck: Path, results: Path, exe: str | os.PathLike | None = None, ov
     if proc.returncode not in (0, 3):
         msg = (proc.stderr.strip() or proc.stdout.strip()).splitlines()
         raise CaseError(f"raildyn run {run_deck_path} exited with {proc.returncode} "
-                        f"({_EXIT.get(proc.returncode, '?')}): {msg[-1] if msg else 'no message'}")
+                        f"({EXIT_OUTCOMES.get(proc.returncode, '?')}): {msg[-1] if msg else 'no message'}")
     if not results.exists():
         raise CaseError(f"raildyn run {run_deck_path} wrote no results file {results}")
     return RunInfo(results, proc.returncode, wall, proc.stderr, stdout=proc.stdout)
