@@ -9,8 +9,8 @@ and the classifier's verdict checked against what each run must give:
   limit (exit 3, reason "wheel lift-off"): the moment moves M / (2 b) of load between the wheels
   (b = 0.75 m), so 2 b Q = 1.5 m x 67.7 kN = 102 kN m unloads a wheel (Q = 55 240 kg g / 8); the
   wheel must lift, and 0.2 s is ample for 5 mm;
-- a Manchester run on strips with a CPU-time limit of 1 s (it needs about 2.5 CPU s) is stopped
-  by the wrapper and classified as a hang (FAILURE).
+- a Manchester run in R 80 m on 0.1 mm strips with a CPU-time limit of 1 s (it took 179 CPU s in
+  the published matrix) is stopped by the wrapper and classified as a hang (FAILURE).
 
 And the classifier on results it did not write: a completed run whose results hold a NaN, a
 solver failure (exit 2) and an exit 3 without a documented reason are FAILUREs; a wheel without

@@ -1,0 +1,87 @@
+"""The bench scripts' code paths on short runs, so that a change of the package they import
+breaks a test instead of the next published measurement (bench/fidelity_map/run.py broke
+unnoticed once when raildyn.validation renamed a helper). Nothing is timed.
+
+- bench/fidelity_map/run.py: two levels of the TGV knife-edge scene, shortened to 0.5 s, through
+  the script's own `measure` (deck writing, the timed run, reading the series) and `compare`: a
+  level compared with a run of itself differs by exactly 0 (the runs are deterministic); Polach
+  against FASTSIM differs (different creep laws give different wheel forces); `render` turns the
+  rows into the published table naming both levels and the comparison.
+- bench/manchester_friction: run.py's `measure` on a short acceptance-deck run (steps, no
+  window yet), its entry differences on two entry sets built from the package table (a 1 kN
+  change of one force entry is 1 kN and 100 kN / S % of its family's scale), and cycle.py's
+  `report` on the same results file.
+"""
+import importlib.util
+import os
+import sys
+from dataclasses import asdict, replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def _load(rel: str, name: str):
+    spec = importlib.util.spec_from_file_location(name, REPO / rel)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod      # dataclasses look their module up
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.fixture(scope="module")
+def fidelity_map():
+    return _load("bench/fidelity_map/run.py", "bench_fidelity_map_run")
+
+
+@pytest.fixture(scope="module")
+def friction():
+    return _load("bench/manchester_friction/run.py", "bench_manchester_friction_run")
+
+
+def test_fidelity_map_measures_compares_and_renders(fidelity_map, build_dir, tmp_path):
+    fm = fidelity_map
+    exe = build_dir / "bin" / "raildyn"
+    env = dict(os.environ, RAILDYN_CACHE_DIR=str(tmp_path / "cache"))
+    scene = next(s for s in fm.scene_list() if s.key == "tgv_knife_edge")
+    polach = next(lv for lv in scene.levels if lv.name == "knife edge polach")
+    fastsim = next(lv for lv in scene.levels if lv.name == "knife edge fastsim")
+    ref_row, ref = fm.measure(exe, tmp_path, scene, replace(polach, reference=True), 0.5, "ref", env, 600.0,
+                              None, False)
+    assert ref_row.outcome == "completed" and ref is not None, ref_row.notes
+    assert ref_row.steps > 0 and ref_row.rhs > 0 and ref.t[-1] == pytest.approx(0.5)
+    same, _ = fm.measure(exe, tmp_path, scene, polach, 0.5, "same", env, 600.0, ref, False)
+    assert (same.err_y, same.err_force) == (0.0, 0.0), "a deterministic run differs from itself"
+    other, _ = fm.measure(exe, tmp_path, scene, fastsim, 0.5, "other", env, 600.0, ref, False)
+    assert other.outcome == "completed" and np.isfinite(other.err_force) and other.err_force > 0, other
+    data = {"meta": {"label": "test", "quick": True, "commit": "test", "host": "test", "when": "test"},
+            "rows": [asdict(r) for r in (ref_row, same, other)]}
+    text = fm.render(data, tmp_path / "map.png")
+    assert "knife edge polach" in text and "knife edge fastsim" in text, text
+
+
+def test_manchester_friction_measures(friction, build_dir, tmp_path):
+    mf = friction
+    deck = tmp_path / "short.nml"
+    deck.write_text(f"&include file = '{REPO / 'inputs' / 'manchester_v1_tc1.nml'}' /\n"
+                    "&simulation t_end = 0.3 /\n&output interval = 0.002 /\n")
+    out = tmp_path / "short.h5"
+    rc, cpu, wall = mf.run(build_dir / "bin" / "raildyn", deck, out, 600.0)
+    assert rc == 0 and cpu > 0 and wall > 0
+    m = mf.measure(out)
+    assert m["t_end"] == pytest.approx(0.3) and m["steps"] > 0 and m["rhs"] > 0
+    assert m["entries"] is None and m["notes"] == []      # the window is at 106-128.5 m
+    entries = mf.V.load_package_table()
+    a = {e.key: 1.0 for e in entries}
+    force = next(e for e in entries if e.unit == "kN")
+    b = dict(a, **{force.key: 1.0 + 1000.0})             # entries are SI: +1 kN
+    worst = mf.entry_differences(a, b)
+    assert worst["kN"] == pytest.approx(1.0) and worst["mm"] == 0 and worst["mrad"] == 0
+    percent, key = mf.scale_differences(a, b)
+    assert key == force.key
+    assert percent == pytest.approx(100.0 * 1000.0 / mf.V.family_scales(entries)[force.quantity])
+    cycle = _load("bench/manchester_friction/cycle.py", "bench_manchester_friction_cycle")
+    cycle.report(out, "short")      # reads wheelset 1's channels by the writer's names
