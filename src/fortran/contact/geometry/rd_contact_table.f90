@@ -9,11 +9,17 @@
 !> Writing the table over u instead of the wheelset's y removes the roll's lever arm: at
 !> fixed u only the small tilt of the profile depends on phi, so a few roll nodes suffice.
 !>
-!> Patch identity: the wheel profile is cut into a tread part and a flange part where its
-!> slope angle first exceeds `slot_angle` going from the tape circle towards the flange;
-!> each part is searched by the strip model on its own, which gives each slot a signed
-!> gap even where it does not touch (onset and loss of the flange patch are then a
-!> smooth sign change of its penetration, never a change of identity).
+!> Patch identity: the wheel profile is cut into a tread part, a flange-root part and a
+!> flange-face part: the tread ends where its slope angle first exceeds `slot_angle` going
+!> from the tape circle towards the flange, where the root begins; the root ends where the
+!> slope angle exceeds `root_angle`, the face begins where it exceeds `face_angle` (the wheel
+!> between the two is in neither part). Each part is searched by the strip model on its own,
+!> which gives each slot a signed gap even where it does not touch (onset and loss of a
+!> patch are then a smooth sign change of its penetration, never a change of identity). The
+!> cuts lie where the contact jumps over the wheel (S1002 on 60E1 / UIC60: tread 0.12 ->
+!> root 0.29 rad, root 0.65 -> face 1.22 rad): one slot for root and face together held the
+!> deepest of the two, and interpolation across that jump made a steep ramp of contact
+!> angles that do not exist (docs/theory_contact_geometry.md section 10).
 !>
 !> Penetration model: per slot the table holds the height h of the reference point at which
 !> that part just touches the rail (root of the strip model's signed maximum penetration),
@@ -38,10 +44,10 @@ module rd_contact_table
   implicit none
   private
   public :: contact_table_options_t, contact_table_t, build_contact_table, table_wheel_contact
-  public :: split_wheel_surface, TABLE_SLOTS, TABLE_SLOT_TREAD, TABLE_SLOT_FLANGE, TABLE_QUANTITIES
+  public :: split_wheel_surface, TABLE_SLOTS, TABLE_SLOT_TREAD, TABLE_SLOT_FLANGE, TABLE_SLOT_FACE, TABLE_QUANTITIES
 
-  integer, parameter :: TABLE_SLOTS = 2
-  integer, parameter :: TABLE_SLOT_TREAD = 1, TABLE_SLOT_FLANGE = 2
+  integer, parameter :: TABLE_SLOTS = 3
+  integer, parameter :: TABLE_SLOT_TREAD = 1, TABLE_SLOT_FLANGE = 2, TABLE_SLOT_FACE = 3
 
   ! tabulated quantities per node and slot
   integer, parameter :: Q_HEIGHT = 1          !< touch height of the reference point [m]
@@ -58,8 +64,8 @@ module rd_contact_table
   integer, parameter :: Q_CURV_RAIL_LAT = 12
   integer, parameter :: TABLE_QUANTITIES = 12
 
-  !> A slot whose part sees no rail at a node is placed this far below the other slot's
-  !> touch height (far from contact; only the interpolation's neighbourhood sees it) [m].
+  !> A slot whose part sees no rail at a node is placed this far below the highest other
+  !> slot's touch height (far from contact; only the interpolation's neighbourhood sees it) [m].
   real(wp), parameter :: absent_gap = 1.0e-2_wp
 
   !> What a table depends on besides the surfaces (all part of its cache key).
@@ -70,6 +76,14 @@ module rd_contact_table
     integer :: roll_nodes = 25                 !< number of roll nodes (odd: 0 is a node)
     real(wp) :: reference_approach = 2.0e-5_wp !< normal approach of the tabulated patch data [m]
     real(wp) :: slot_angle = 0.2_wp            !< wheel slope angle of the tread/flange cut [rad]
+    !> wheel slope angles where the flange-root part ends and the flange-face part begins
+    !> [rad]: inside the slopes the contact jumps over on S1002 / 60E1 and UIC60 (0.65 ->
+    !> 1.22 rad, `raildyn profile-scan`; the roll range moves them by 0.03), and apart, so
+    !> that the near-conformal contact of the concave root, whose penetrated zone reaches
+    !> millimetres along the wheel, does not reach into the face part (a single cut there gave
+    !> a second, spurious patch of the root contact: 11 % of the force at 20 um, 6.6 mm shift)
+    real(wp) :: root_angle = 0.8_wp
+    real(wp) :: face_angle = 1.1_wp
   end type contact_table_options_t
 
   !> One wheel/rail pair (left-wheel model).
@@ -77,6 +91,11 @@ module rd_contact_table
     type(contact_table_options_t) :: options
     real(wp) :: y_tape = 0, r0 = 0
     real(wp) :: s_cut = 0                !< wheel profile coordinate of the tread/flange cut [m]
+    real(wp) :: s_root_end = 0           !< ... of the flange root's end [m]
+    real(wp) :: s_face_start = 0         !< ... of the flange face's start [m]
+    !> steepest slope |dr/dy| of the wheel between the flange tip and the tape circle (the
+    !> flange angle, S1002: 70 deg): the largest cone slope the yaw lead can have (below)
+    real(wp) :: yaw_slope_max = 0
     integer :: nu = 0, nphi = 0
     real(wp) :: u0 = 0, du = 1, phi0 = 0, dphi = 1
     !> values(iu, iphi, q, slot) and their u-derivatives (Fritsch-Carlson) [per m]
@@ -96,7 +115,7 @@ contains
     type(wheel_surface_t) :: parts(TABLE_SLOTS)
     logical, allocatable :: present_at(:, :, :)
     integer :: iu, ip, slot, q, other
-    real(wp) :: u, phi, y, h, row(TABLE_QUANTITIES)
+    real(wp) :: u, phi, y, h, row(TABLE_QUANTITIES), cuts(3)
     logical :: found
 
     call check_options(options, error)
@@ -104,12 +123,17 @@ contains
     table%options = options
     table%y_tape = wheel%y_tape
     table%r0 = wheel%nominal_radius
-    call split_wheel_surface(wheel, options%slot_angle, parts(TABLE_SLOT_TREAD), parts(TABLE_SLOT_FLANGE), &
-                             table%s_cut, error)
+    call split_wheel_surface(wheel, [options%slot_angle, options%root_angle, options%face_angle], parts, cuts, error)
     if (allocated(error)) then
       call error_context(error, 'build_contact_table')
       return
     end if
+    table%s_cut = cuts(1)
+    table%s_root_end = cuts(2)
+    table%s_face_start = cuts(3)
+    iu = maxloc(wheel%r, dim=1)                       ! the flange tip
+    ip = minloc(abs(wheel%s), dim=1)                  ! the tape circle
+    table%yaw_slope_max = maxval(abs(wheel%slope(min(iu, ip):max(iu, ip))))
     table%nu = 2 * nint(options%shift_max / options%shift_step) + 1
     table%du = options%shift_step
     table%u0 = -(table%nu - 1) / 2 * table%du
@@ -143,19 +167,27 @@ contains
         end do
       end do
     end do
-    ! a part without rail under it: far below the other part's touch height, the other
-    ! data from the nearest node where it has some (continuous, no force)
+    ! a part without rail under it: far below the highest other part's touch height, the
+    ! other data from the nearest node where it has some (continuous, no force)
     do slot = 1, TABLE_SLOTS
       if (.not. any(present_at(:, :, slot))) then
         call make_error(error, RD_ERR_INPUT, 'build_contact_table: the ' // trim(slot_name(slot)) // &
                         ' part of the wheel never meets the rail within the table''s range')
         return
       end if
-      other = TABLE_SLOTS + 1 - slot
       do ip = 1, table%nphi
         do iu = 1, table%nu
           if (present_at(iu, ip, slot)) cycle
-          if (.not. present_at(iu, ip, other)) then
+          other = 0
+          do q = 1, TABLE_SLOTS
+            if (q == slot .or. .not. present_at(iu, ip, q)) cycle
+            if (other == 0) then
+              other = q
+            else if (table%values(iu, ip, Q_HEIGHT, q) > table%values(iu, ip, Q_HEIGHT, other)) then
+              other = q
+            end if
+          end do
+          if (other == 0) then
             call make_error(error, RD_ERR_INPUT, 'build_contact_table: no rail under the wheel at u = ' // &
                             sci_text(table%u0 + (iu - 1) * table%du, 5) // ' m; expected a smaller shift range')
             return
@@ -210,82 +242,138 @@ contains
       call make_error(error, RD_ERR_INPUT, 'contact table: reference approach must be in (0, 1e-3] m')
     else if (.not. (options%slot_angle > 0.02_wp .and. options%slot_angle < 1.0_wp)) then
       call make_error(error, RD_ERR_INPUT, 'contact table: slot angle must be in (0.02, 1) rad')
+    else if (.not. (options%root_angle > options%slot_angle + 0.1_wp .and. options%face_angle > options%root_angle &
+                    .and. options%face_angle < 1.4_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'contact table: expected slot angle + 0.1 < root angle < face angle < 1.4 rad')
     end if
   end subroutine check_options
 
-  !> The tread part (profile coordinate s >= s_cut) and the flange part (s <= s_cut) of a
-  !> left wheel surface; s_cut is the first point, going from the tape circle towards the
-  !> flange, where the radius grows faster than tan(slot_angle) per metre. Both parts hold
-  !> the cut point and keep the full surface's point slopes and curvatures.
+  !> The tread, flange-root and flange-face parts of a left wheel surface. Cut k is the first
+  !> point, going from the tape circle towards the flange, where the radius grows faster than
+  !> tan(angles(k)) per metre (angles increasing): the tread is s >= s_cuts(1), the root
+  !> s_cuts(2) <= s <= s_cuts(1), the face s <= s_cuts(3). Parts keep the full surface's point
+  !> slopes and curvatures.
   !>
-  !> Beyond the cut each part continues as a cone receding at 45 degrees (radius falling
-  !> away from the cut): the strip model extends a surface past its last point at the
-  !> last radius, which for the flange part would be a cylinder at the cut's radius over
-  !> the tread, deeper in the rail than the real (lower) tread. A receding cone lies
-  !> inside the real wheel on both sides of the cut (the real radius falls more slowly
-  !> towards the tread and rises towards the flange), so a part never penetrates where the
-  !> real wheel does not.
-  subroutine split_wheel_surface(wheel, slot_angle, tread, flange, s_cut, error)
+  !> Beyond a cut each part continues so that it never penetrates where the real wheel does
+  !> not: the strip model extends a surface past its last point at the last radius, which
+  !> for a part on the flange side of a cut would be a cylinder at the cut's radius over the
+  !> lower wheel, deeper in the rail than the real wheel.
+  !> - At the first cut (tread / flange root, a slope of 0.2) the part continues as a cone
+  !>   receding at 45 degrees (radius falling away from the cut).
+  !> - At the later cuts (the root's end and the face's start, slopes of 1.0 and 2.0, where a
+  !>   cone at 45 degrees would not stay inside the wheel) it continues along the wheel's
+  !>   tangent at the cut, bending away from it with the curvature `bend`
+  !>   (r = r_c + r'_c dy - bend dy^2 / 2): a kinked, steeper cone there
+  !>   made the part's deepest point sit on the kink whenever the other part carried the
+  !>   contact, where the strip model's refined peak of a kinked gap is not smooth (S1002
+  !>   on UIC60, 6.4 mm, roll 0.01: no patch opened 35 um below the touch height found).
+  !> Between the cuts S1002 is concave (its slope grows towards the flange): towards the tread
+  !> the real radius falls more slowly than the tangent, towards the flange it rises faster,
+  !> so both continuations lie inside the real wheel on both sides of every cut.
+  subroutine split_wheel_surface(wheel, angles, parts, s_cuts, error)
     type(wheel_surface_t), intent(in) :: wheel
-    real(wp), intent(in) :: slot_angle
-    type(wheel_surface_t), intent(out) :: tread, flange
-    real(wp), intent(out) :: s_cut
+    real(wp), intent(in) :: angles(:)
+    type(wheel_surface_t), intent(out) :: parts(:)
+    real(wp), intent(out) :: s_cuts(:)
     type(error_t), allocatable, intent(out) :: error
-    !> length of the receding cone [m]: beyond the strip search's lateral margin (2 mm)
+    !> length of the continuation [m]: beyond the strip search's lateral margin (2 mm)
     real(wp), parameter :: recede_length = 5.0e-3_wp
-    integer :: i, i0, icut, next
+    !> curvature of the tangent continuation at the later cuts [1/m]: a 2 mm radius, so that
+    !> the root's continuation (slope 1.0) turns over 2 mm beyond its end and is 1.1 mm below
+    !> the cut's radius at the continuation's end, the face's (slope 2.0) falls 16 mm over
+    !> its 5 mm, while 20 rail lines of 0.1 mm resolve a quarter turn of it
+    real(wp), parameter :: bend = 500.0_wp
+    integer :: i, i0, k, ncut, icut(size(angles))
     real(wp) :: h
-    ! the tape circle's point, then towards smaller s (the flange side of a left wheel)
-    i0 = minloc(abs(wheel%s), dim=1)
-    icut = 0
-    do i = i0, 1, -1
-      if (-wheel%slope(i) > tan(slot_angle)) then
-        icut = i
-        exit
-      end if
-    end do
-    if (icut < 3 .or. icut > wheel%n - 3) then
-      call make_error(error, RD_ERR_INPUT, 'split_wheel_surface: the wheel profile has no flange steeper than ' // &
-                      'the slot angle between the tape circle and the flange back')
+    ncut = size(angles)
+    if (ncut /= 3 .or. size(parts) /= 3 .or. size(s_cuts) /= 3) then
+      call make_error(error, RD_ERR_INPUT, 'split_wheel_surface: expected three cut angles and three parts')
       return
     end if
-    s_cut = wheel%s(icut)
-    h = wheel%y(icut + 1) - wheel%y(icut)
-    next = max(2, ceiling(recede_length / h))
-    call part(icut, wheel%n, -1, tread)
-    call part(1, icut, 1, flange)
-  contains
-    !> points i1..i2 of the wheel plus `next` receding points before i1 (dir = -1) or
-    !> after i2 (dir = 1)
-    subroutine part(i1, i2, dir, p)
-      integer, intent(in) :: i1, i2, dir
-      type(wheel_surface_t), intent(out) :: p
-      integer :: n, k, j, off
-      n = i2 - i1 + 1 + next
-      allocate (p%s(n), p%y(n), p%r(n), p%slope(n), p%kappa(n), p%cone_slope(n - 1))
-      off = merge(next, 0, dir < 0)
-      p%s(off + 1:off + i2 - i1 + 1) = wheel%s(i1:i2)
-      p%y(off + 1:off + i2 - i1 + 1) = wheel%y(i1:i2)
-      p%r(off + 1:off + i2 - i1 + 1) = wheel%r(i1:i2)
-      p%slope(off + 1:off + i2 - i1 + 1) = wheel%slope(i1:i2)
-      p%kappa(off + 1:off + i2 - i1 + 1) = wheel%kappa(i1:i2)
-      do k = 1, next
-        j = merge(off + 1 - k, i2 - i1 + 1 + k, dir < 0)
-        p%s(j) = wheel%s(icut) + dir * k * h
-        p%y(j) = wheel%y(icut) + dir * k * h
-        p%r(j) = wheel%r(icut) - k * h
-        p%slope(j) = -dir
-        p%kappa(j) = wheel%kappa(icut)
+    ! the tape circle's point, then towards smaller s (the flange side of a left wheel)
+    i0 = minloc(abs(wheel%s), dim=1)
+    do k = 1, ncut
+      icut(k) = 0
+      if (k > 1) i0 = icut(k - 1) - 1
+      do i = i0, 1, -1
+        if (-wheel%slope(i) > tan(angles(k))) then
+          icut(k) = i
+          exit
+        end if
       end do
+      if (icut(k) < 3 .or. icut(k) > wheel%n - 3) then
+        call make_error(error, RD_ERR_INPUT, 'split_wheel_surface: the wheel profile has no flange steeper than ' // &
+                        'the slot angle ' // sci_text(angles(k), 3) // ' rad between the tape circle and the flange back')
+        return
+      end if
+      s_cuts(k) = wheel%s(icut(k))
+    end do
+    h = wheel%y(icut(1) + 1) - wheel%y(icut(1))
+    ! tread: from the first cut to the end, receding before the cut
+    call part(icut(1), wheel%n, 0, 1, parts(1))
+    call part(icut(2), icut(1), 1, 2, parts(2))
+    call part(1, icut(3), 3, 0, parts(3))
+  contains
+    !> points i1..i2 of the wheel, with a receding cone before i1 at cut `before` (the
+    !> flange side; 0: none) and after i2 at cut `after` (the tread side; 0: none)
+    subroutine part(i1, i2, after, before, p)
+      integer, intent(in) :: i1, i2, after, before
+      type(wheel_surface_t), intent(out) :: p
+      integer :: n, m, nb, na, j
+      nb = 0; na = 0
+      if (before > 0) nb = max(2, ceiling(recede_length / h))
+      if (after > 0) na = max(2, ceiling(recede_length / h))
+      m = i2 - i1 + 1
+      n = nb + m + na
+      allocate (p%s(n), p%y(n), p%r(n), p%slope(n), p%kappa(n), p%cone_slope(n - 1))
+      p%s(nb + 1:nb + m) = wheel%s(i1:i2)
+      p%y(nb + 1:nb + m) = wheel%y(i1:i2)
+      p%r(nb + 1:nb + m) = wheel%r(i1:i2)
+      p%slope(nb + 1:nb + m) = wheel%slope(i1:i2)
+      p%kappa(nb + 1:nb + m) = wheel%kappa(i1:i2)
+      if (before > 0) then
+        ! towards smaller s (the flange side) of cut `before`, at point i1
+        do j = 1, nb
+          call continuation(before, -j * h, p%s(nb + 1 - j), p%y(nb + 1 - j), p%r(nb + 1 - j), &
+                            p%slope(nb + 1 - j), p%kappa(nb + 1 - j))
+        end do
+      end if
+      if (after > 0) then
+        ! towards larger s (the tread side) of cut `after`, at point i2
+        do j = 1, na
+          call continuation(after, j * h, p%s(nb + m + j), p%y(nb + m + j), p%r(nb + m + j), &
+                            p%slope(nb + m + j), p%kappa(nb + m + j))
+        end do
+      end if
       p%n = n
-      do k = 1, n - 1
-        p%cone_slope(k) = (p%r(k + 1) - p%r(k)) / (p%y(k + 1) - p%y(k))
+      do j = 1, n - 1
+        p%cone_slope(j) = (p%r(j + 1) - p%r(j)) / (p%y(j + 1) - p%y(j))
       end do
       p%r_max = maxval(p%r)
       p%r_min = minval(p%r)
       p%nominal_radius = wheel%nominal_radius
       p%y_tape = wheel%y_tape
     end subroutine part
+
+    !> The point dy from cut k on its part's continuation (header).
+    pure subroutine continuation(k, dy, ps, py, pr, pslope, pkappa)
+      integer, intent(in) :: k
+      real(wp), intent(in) :: dy
+      real(wp), intent(out) :: ps, py, pr, pslope, pkappa
+      integer :: ic
+      ic = icut(k)
+      ps = wheel%s(ic) + dy
+      py = wheel%y(ic) + dy
+      if (k == 1) then
+        pr = wheel%r(ic) - abs(dy)
+        pslope = -sign(1.0_wp, dy)
+        pkappa = wheel%kappa(ic)
+      else
+        pr = wheel%r(ic) + wheel%slope(ic) * dy - 0.5_wp * bend * dy**2
+        pslope = wheel%slope(ic) - bend * dy
+        pkappa = bend / (1 + pslope**2)**1.5_wp
+      end if
+    end subroutine continuation
   end subroutine split_wheel_surface
 
   !> One node of one part: the wheelset height at which the part just touches (secant
@@ -485,9 +573,16 @@ contains
       ! the axle is deepest rho k psi ahead of the wheel's lowest point, rho k^2 psi^2 / 2
       ! deeper than at zero yaw (depth r(y - t psi) - sqrt(rho^2 + t^2), maximised in t):
       ! the flange lead and its earlier touch (theory doc, "Contact tables")
+      ! (k at most the wheel's steepest cone, the flange angle: a slot far from contact has
+      ! its closest approach on the rail's vertical gauge face, 1.55 rad, where tan(gamma)
+      ! is no wheel cone and made a lead of metres and a phantom patch)
       slope = tan(v(Q_ANGLE))
+      slope = sign(min(abs(slope), table%yaw_slope_max), slope)
       lead = -v(Q_RADIUS) * slope * psi
-      delta = (v(Q_HEIGHT) + 0.5_wp * v(Q_RADIUS) * (slope * psi)**2 - zref) * cos(v(Q_ANGLE))
+      ! cos(gamma) floored as in the build: far from contact a slot's interpolated angle may
+      ! pass the vertical (the face slot's closest approach is then on the rail's gauge face),
+      ! where cos < 0 made a negative overlap a positive approach: a phantom patch
+      delta = (v(Q_HEIGHT) + 0.5_wp * v(Q_RADIUS) * (slope * psi)**2 - zref) * max(cos(v(Q_ANGLE)), 0.05_wp)
       res%max_penetration = max(res%max_penetration, delta)
       if (delta <= 0) cycle
       res%n_patches = res%n_patches + 1
@@ -527,7 +622,11 @@ contains
   pure function slot_name(slot) result(name)
     integer, intent(in) :: slot
     character(len=:), allocatable :: name
-    name = merge('tread ', 'flange', slot == TABLE_SLOT_TREAD)
+    select case (slot)
+    case (TABLE_SLOT_TREAD); name = 'tread'
+    case (TABLE_SLOT_FLANGE); name = 'flange-root'
+    case default; name = 'flange-face'
+    end select
   end function slot_name
 
 end module rd_contact_table

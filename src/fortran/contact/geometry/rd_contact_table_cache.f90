@@ -27,7 +27,7 @@ module rd_contact_table_cache
   public :: obtain_contact_table, contact_table_key, contact_table_cache_dir, contact_table_file
 
   !> Change whenever the table's content or meaning changes (code version of the format).
-  character(len=*), parameter :: TABLE_FORMAT = 'raildyn contact table 1'
+  character(len=*), parameter :: TABLE_FORMAT = 'raildyn contact table 2'
 
   interface
     function c_mkdir(path, mode) result(status) bind(C, name='mkdir')
@@ -94,7 +94,8 @@ contains
     h = fnv_offset()
     call add_text(h, TABLE_FORMAT)
     call add_reals(h, [options%shift_max, options%shift_step, options%roll_max, real(options%roll_nodes, wp), &
-                       options%reference_approach, options%slot_angle])
+                       options%reference_approach, options%slot_angle, options%root_angle, &
+                       options%face_angle])
     call add_reals(h, [real(wheel%n, wp), wheel%nominal_radius, wheel%y_tape])
     call add_reals(h, wheel%s); call add_reals(h, wheel%y); call add_reals(h, wheel%r)
     call add_reals(h, wheel%slope); call add_reals(h, wheel%kappa)
@@ -152,7 +153,8 @@ contains
     table%nu = nu
     table%nphi = nphi
     allocate (table%values(nu, nphi, nq, ns), table%slopes(nu, nphi, nq, ns))
-    read (unit, iostat=ios) table%options, table%y_tape, table%r0, table%s_cut, table%u0, table%du, &
+    read (unit, iostat=ios) table%options, table%y_tape, table%r0, table%s_cut, table%s_root_end, &
+      table%s_face_start, table%yaw_slope_max, table%u0, table%du, &
       table%phi0, table%dphi, table%values, table%slopes
     close (unit)
     if (ios /= 0) then
@@ -175,8 +177,8 @@ contains
           iostat=ios)
     if (ios /= 0) return
     write (unit, iostat=ios) TABLE_FORMAT, key, table%nu, table%nphi, TABLE_QUANTITIES, TABLE_SLOTS
-    if (ios == 0) write (unit, iostat=ios) table%options, table%y_tape, table%r0, table%s_cut, table%u0, table%du, &
-      table%phi0, table%dphi, table%values, table%slopes
+    if (ios == 0) write (unit, iostat=ios) table%options, table%y_tape, table%r0, table%s_cut, table%s_root_end, &
+      table%s_face_start, table%yaw_slope_max, table%u0, table%du, table%phi0, table%dphi, table%values, table%slopes
     if (ios /= 0) then
       close (unit, status='delete')
       return
