@@ -94,9 +94,9 @@ def test_r80_flange_root_to_face_on_tables(tmp_path):
     mm, yaw 19.5 mrad), where with one table slot for root and face the quasi-static balance had
     no root (the solve did not converge at 2.288 s: exit 2). Now it completes, and follows the
     strip run of the same scene: oracle the online strips; bounds the differences measured when
-    the face got its own slot (lateral shifts 0.22 mm, wheel forces Y 1.49 kN of 40 kN and Q
-    0.63 kN of 70 kN, wheelset 1 at 0.7 s), rounded up (docs/theory_contact_geometry.md
-    section 10)."""
+    the face got its own slot (lateral shifts 0.225 mm; wheel forces Y 1.99 kN of 40 kN and Q
+    0.81 kN of 70 kN, wheelset 1's flange wheel at 0.72 s), rounded up
+    (docs/theory_contact_geometry.md section 10)."""
     scene = REPO / "bench" / "extremes" / "scenes" / "manchester__r80.nml"
     law = "creep_law = 'linear', creep_saturation = 'shen_hedrick_elkins'"
     out = {}
@@ -119,5 +119,5 @@ def test_r80_flange_root_to_face_on_tables(tmp_path):
     for w in WHEELSETS:
         for side in ("left", "right"):
             fs, ft = strips[f"wheelsets/{w}/{side}/wheel"][()], table[f"wheelsets/{w}/{side}/wheel"][()]
-            assert np.abs(fs[:, 2] - ft[:, 2]).max() < 2.0e3, (w, side, "Y")
+            assert np.abs(fs[:, 2] - ft[:, 2]).max() < 2.5e3, (w, side, "Y")
             assert np.abs(fs[:, 3] - ft[:, 3]).max() < 1.0e3, (w, side, "Q")

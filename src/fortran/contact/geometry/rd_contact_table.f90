@@ -77,13 +77,17 @@ module rd_contact_table
     real(wp) :: reference_approach = 2.0e-5_wp !< normal approach of the tabulated patch data [m]
     real(wp) :: slot_angle = 0.2_wp            !< wheel slope angle of the tread/flange cut [rad]
     !> wheel slope angles where the flange-root part ends and the flange-face part begins
-    !> [rad]: inside the slopes the contact jumps over on S1002 / 60E1 and UIC60 (0.65 ->
-    !> 1.22 rad, `raildyn profile-scan`; the roll range moves them by 0.03), and apart, so
-    !> that the near-conformal contact of the concave root, whose penetrated zone reaches
-    !> millimetres along the wheel, does not reach into the face part (a single cut there gave
-    !> a second, spurious patch of the root contact: 11 % of the force at 20 um, 6.6 mm shift)
-    real(wp) :: root_angle = 0.8_wp
-    real(wp) :: face_angle = 1.1_wp
+    !> [rad]: inside the slopes the contact jumps over on S1002 / 60E1 and UIC60 at zero yaw
+    !> (0.65 -> 1.22 rad, `raildyn profile-scan`; the roll range moves them by 0.03). How far
+    !> apart is a trade, measured (docs/theory_contact_geometry.md section 10): a narrow gap
+    !> lets the near-conformal contact of the concave root, whose penetrated zone reaches
+    !> millimetres along the wheel, into the face part (a second, spurious patch next to the
+    !> jump: at the nodes 0.064 of a 20 um tread force at 0.9 / 1.0 rad, 0.0047 at 0.8 / 1.1);
+    !> a wide one loses the contacts a yawed wheel has between them (the strips: 0.885 rad at
+    !> 14.6 mrad in the Manchester acceptance scene, whose window entries on tables were 3.1 %
+    !> of their family scale off the online run at 0.9 / 1.0, 5.6 % at 0.8 / 1.1)
+    real(wp) :: root_angle = 0.85_wp
+    real(wp) :: face_angle = 1.05_wp
   end type contact_table_options_t
 
   !> One wheel/rail pair (left-wheel model).
@@ -260,7 +264,7 @@ contains
   !> lower wheel, deeper in the rail than the real wheel.
   !> - At the first cut (tread / flange root, a slope of 0.2) the part continues as a cone
   !>   receding at 45 degrees (radius falling away from the cut).
-  !> - At the later cuts (the root's end and the face's start, slopes of 1.0 and 2.0, where a
+  !> - At the later cuts (the root's end and the face's start, slopes of 1.1 and 1.7, where a
   !>   cone at 45 degrees would not stay inside the wheel) it continues along the wheel's
   !>   tangent at the cut, bending away from it with the curvature `bend`
   !>   (r = r_c + r'_c dy - bend dy^2 / 2): a kinked, steeper cone there
@@ -279,9 +283,9 @@ contains
     !> length of the continuation [m]: beyond the strip search's lateral margin (2 mm)
     real(wp), parameter :: recede_length = 5.0e-3_wp
     !> curvature of the tangent continuation at the later cuts [1/m]: a 2 mm radius, so that
-    !> the root's continuation (slope 1.0) turns over 2 mm beyond its end and is 1.1 mm below
-    !> the cut's radius at the continuation's end, the face's (slope 2.0) falls 16 mm over
-    !> its 5 mm, while 20 rail lines of 0.1 mm resolve a quarter turn of it
+    !> the root's continuation (slope 1.1) turns over 2.3 mm beyond its end and is 0.5 mm
+    !> below the cut's radius at the continuation's end, the face's (slope 1.7) falls 15 mm
+    !> over its 5 mm, while 20 rail lines of 0.1 mm resolve a quarter turn of it
     real(wp), parameter :: bend = 500.0_wp
     integer :: i, i0, k, ncut, icut(size(angles))
     real(wp) :: h
