@@ -186,7 +186,12 @@ MUTATIONS = {
     ("body", "frozen"): ([], [("&body name = 'frame'", "frozen", "'yaw'")], False),
     ("wheelset", "name"): ([], [rename("w1", "front")], False),
     # the body on the wheelset becomes the wheelset, and the former wheelset a plain body
-    ("wheelset", "body"): ([], [("&wheelset", "body", "'frame'")], True),
+    # the contact moved to a second wheelset-like body at rail height (moved to 'frame', 0.39 m
+    # above the rails, the initial state is a lift-off stop, which raildyn check reports)
+    ("wheelset", "body"): ([lambda d: d.replace("&body name = 'frame',", "&body name = 'ws2', frame = 'ws1', "
+                                                "mass = 1500.0, ixx = 800.0, iyy = 100.0, izz = 800.0,\n"
+                                                "      position = 0.0, 0.0, 0.45979 /\n&body name = 'frame',")],
+                           [("&wheelset", "body", "'ws2'")], False),
     ("wheelset", "left_rail_body"): (RAILS, [("&wheelset", "left_rail_body", "'rail_l'")], False),
     ("wheelset", "right_rail_body"): (RAILS, [("&wheelset", "right_rail_body", "'rail_r'")], False),
     ("wheelset", "contact"): ([], KNIFE, False),

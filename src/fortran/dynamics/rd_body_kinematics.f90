@@ -12,7 +12,7 @@ module rd_body_kinematics
   implicit none
   private
   public :: body_kinematics_t, body_rotation, angle_rate_matrix, angle_rate_matrix_dot
-  public :: compute_body_kinematics, ground_kinematics, inverse_angle_rate, frame_rate_shift
+  public :: compute_body_kinematics, ground_kinematics, inverse_angle_rate, frame_rate_shift, fixed_angles
 
   !> Everything about one body's motion at one instant. Vectors in fixed-frame components
   !> unless the name says otherwise.
@@ -52,6 +52,14 @@ contains
     real(wp) :: b(3, 3)
     b = matmul(rot_z(angles(1)), matmul(rot_x(angles(2)), rot_y(angles(3))))
   end function body_rotation
+
+  !> Z-X-Y angles (psi, phi, theta) of a rotation R = Rz(psi) Rx(phi) Ry(theta): R32 = sin(phi),
+  !> R12 = -sin(psi)cos(phi), R22 = cos(psi)cos(phi), R31 = -cos(phi)sin(theta), R33 = cos(phi)cos(theta).
+  pure function fixed_angles(r) result(angles)
+    real(wp), intent(in) :: r(3, 3)
+    real(wp) :: angles(3)
+    angles = [atan2(-r(1, 2), r(2, 2)), asin(max(-1.0_wp, min(1.0_wp, r(3, 2)))), atan2(-r(3, 1), r(3, 3))]
+  end function fixed_angles
 
   !> H(phi, theta): relative angular velocity in BODY components = H (dpsi, dphi, dtheta).
   !> Columns: B^T e_z, Ry^T e_x, e_y (thesis A.21, which orders the angles (x, y, z)).

@@ -27,6 +27,7 @@ module rd_multibody
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_INTERNAL, &
                       RD_ERR_PHYSICS
   use rd_rotation, only: cross
+  use rd_text, only: int_text
   use rd_ode_system, only: ode_system_t
   use rd_track_point, only: track_point_t, track_geometry_t
   use rd_speed_law, only: speed_law_t
@@ -40,13 +41,13 @@ module rd_multibody
   use rd_external_loads, only: override_loads_t
   implicit none
   private
-  public :: multibody_t, BODY_OUT_RELATIVE, BODY_OUT_FIXED, ELEMENT_OUT
+  public :: multibody_t, multibody_output_t
 
-  integer, parameter :: BODY_OUT_RELATIVE = 18  !< q(6), qdot(6), qddot(6)
-  !> position(3), Z-X-Y angles of A B (psi, phi, theta)(3), velocity(3), angular velocity
-  !> fixed(3) and body(3) components, acceleration(3)
-  integer, parameter :: BODY_OUT_FIXED = 18
-  integer, parameter :: ELEMENT_OUT = 9         !< deflection(3), force element axes(3), force fixed(3)
+  !> The outputs of one evaluation at (t, y) (calc_output). Wheelset pitch: the spin angle.
+  type :: multibody_output_t
+    type(body_kinematics_t), allocatable :: bodies(:)   !< kinematics and accelerations per body
+    type(element_result_t), allocatable :: elements(:)  !< per force element
+  end type multibody_output_t
 
   type :: element_holder_t
     class(force_element_t), allocatable :: e
@@ -101,9 +102,8 @@ module rd_multibody
     procedure :: evaluate_kinematics
     procedure :: free_slot
     procedure :: absolute_tolerances
-    procedure :: body_output_relative
-    procedure :: body_output_fixed
-    procedure :: element_output
+    procedure :: state_layout
+    procedure :: calc_output
     procedure :: set_override_load
     procedure :: quasi_static_balance
   end type multibody_t
@@ -277,6 +277,43 @@ contains
     allocate (tol(self%state_size()), source=atol)
     tol(self%nfree + 1:2 * self%nfree) = atol_velocity
   end function absolute_tolerances
+
+  !> Column names and SI unit tokens of the state vector, in the layout above:
+  !> '<body>.<coordinate>' for q_f (a wheelset's pitch slot is its spin deviation beta),
+  !> '<body>.nu_<coordinate>' for nu_f, '<element>.x<k>' for the elements' internal states.
+  subroutine state_layout(self, components, units)
+    class(multibody_t), intent(in) :: self
+    character(len=:), allocatable, intent(out) :: components, units
+    character(len=5), parameter :: dof_names(6) = ['x    ', 'y    ', 'z    ', 'yaw  ', 'roll ', 'pitch']
+    character(len=5), parameter :: dof_units(6) = ['m    ', 'm    ', 'm    ', 'rad  ', 'rad  ', 'rad  ']
+    character(len=5), parameter :: rate_units(6) = ['m/s  ', 'm/s  ', 'm/s  ', 'rad/s', 'rad/s', 'rad/s']
+    character(len=:), allocatable :: q_names, q_units, nu_names, nu_units
+    character(len=16), allocatable :: el_units(:)
+    integer :: i, j, k
+    q_names = ''; q_units = ''; nu_names = ''; nu_units = ''
+    do i = 1, self%body_count()
+      do j = 1, 6
+        if (self%free_slot(i, j) == 0) cycle
+        q_names = q_names // ' ' // self%bodies(i)%name // '.' // trim(dof_names(j))
+        q_units = q_units // ' ' // trim(dof_units(j))
+        nu_names = nu_names // ' ' // self%bodies(i)%name // '.nu_' // trim(dof_names(j))
+        nu_units = nu_units // ' ' // trim(rate_units(j))
+      end do
+    end do
+    components = q_names // nu_names
+    units = q_units // nu_units
+    do i = 1, self%element_count()
+      if (allocated(el_units)) deallocate (el_units)
+      allocate (el_units(self%elements(i)%e%state_count()))
+      call self%elements(i)%e%state_units(el_units)
+      do k = 1, size(el_units)
+        components = components // ' ' // self%elements(i)%e%name // '.x' // trim(int_text(k))
+        units = units // ' ' // trim(el_units(k))
+      end do
+    end do
+    components = components(2:)
+    units = units(2:)
+  end subroutine state_layout
 
   !> The initial state from the bodies' q0/qdot0 and the elements' initial states.
   subroutine initial_state(self, y, error)
@@ -1009,48 +1046,23 @@ contains
     end do
   end subroutine solve_subset
 
-  !> Body i relative to its track frame, from the last RHS evaluation:
-  !> out = [q(6), qdot(6), qddot(6)] (wheelset pitch: the full spin angle and rate).
-  pure subroutine body_output_relative(self, i, out)
-    class(multibody_t), intent(in) :: self
-    integer, intent(in) :: i
-    real(wp), intent(out) :: out(BODY_OUT_RELATIVE)
-    out(1:6) = self%kin(i)%q
-    out(7:12) = self%kin(i)%qdot
-    out(13:18) = self%kin(i)%qddot
-  end subroutine body_output_relative
-
-  !> Body i in the fixed frame, from the last RHS evaluation: out = [position(3),
-  !> Z-X-Y angles (psi, phi, theta) of A B (3), velocity(3), angular velocity fixed(3),
-  !> angular velocity body(3), acceleration(3)].
-  pure subroutine body_output_fixed(self, i, out)
-    class(multibody_t), intent(in) :: self
-    integer, intent(in) :: i
-    real(wp), intent(out) :: out(BODY_OUT_FIXED)
-    real(wp) :: r(3, 3)
-    r = self%kin(i)%rot
-    out(1:3) = self%kin(i)%r
-    ! R = Rz(psi) Rx(phi) Ry(theta): R32 = sin(phi), R12 = -sin(psi)cos(phi),
-    ! R22 = cos(psi)cos(phi), R31 = -cos(phi)sin(theta), R33 = cos(phi)cos(theta)
-    out(4) = atan2(-r(1, 2), r(2, 2))
-    out(5) = asin(max(-1.0_wp, min(1.0_wp, r(3, 2))))
-    out(6) = atan2(-r(3, 1), r(3, 3))
-    out(7:9) = self%kin(i)%v
-    out(10:12) = self%kin(i)%omega
-    out(13:15) = self%kin(i)%omega_body
-    out(16:18) = self%kin(i)%acc
-  end subroutine body_output_fixed
-
-  !> Element e from the last RHS evaluation: out = [deflection(3), force on body 2 in
-  !> element axes(3), force on body 2 in the fixed frame(3)].
-  pure subroutine element_output(self, e, out)
-    class(multibody_t), intent(in) :: self
-    integer, intent(in) :: e
-    real(wp), intent(out) :: out(ELEMENT_OUT)
-    out(1:3) = self%el_res(e)%deflection
-    out(4:6) = self%el_res(e)%force_local
-    out(7:9) = self%el_res(e)%force
-  end subroutine element_output
+  !> OpenFAST's "calc output" step: the outputs at (t, y), by one evaluation of the equations
+  !> of motion there (the integrator's last evaluation may be at another state): every body's
+  !> kinematics with its accelerations, every element's result. The providers' own outputs
+  !> (e.g. wheelset_contact_t%results) are those of this evaluation too.
+  subroutine calc_output(self, t, y, out, error)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    type(multibody_output_t), intent(out) :: out
+    type(error_t), allocatable, intent(out) :: error
+    real(wp) :: ydot(size(y))
+    logical :: recoverable
+    call self%rhs(t, y, ydot, error, recoverable)
+    if (allocated(error)) return
+    out%bodies = self%kin
+    out%elements = self%el_res
+  end subroutine calc_output
 
   !> Run-time load on body ib (force at the CG and moment, fixed frame), replacing the
   !> previous one (C API input).

@@ -17,6 +17,7 @@ module rd_output_set
     character(len=:), allocatable :: description
     character(len=:), allocatable :: components   !< space separated column names
     real(wp), allocatable :: values(:)
+    integer :: source(4) = 0   !< what fills it: the owner's table row and instance (rd_scene_output_table)
   end type output_channel_t
 
   type :: output_set_t

@@ -36,15 +36,12 @@ module rd_scene
                               build_wheelset_specs, check_rail_bodies, check_body_inertia, &
                               stiffness_warnings, load_wheelset_profiles
   use rd_scene_sensors, only: sensor_spec_t, build_sensors
-  use rd_point_motion, only: point_motion_t, compute_point_motion
+  use rd_point_motion, only: point_motion_t
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_wheelset_contact, only: wheelset_contact_t
-  use rd_wheel_contact_result, only: MAX_PATCHES, N_PATCH_CHANNELS, N_WHEEL_CHANNELS, &
-    N_WHEELSET_CHANNELS, patch_channel_names, patch_channel_units, wheel_channel_names, &
-    wheel_channel_units, wheelset_channel_names, wheelset_channel_units, patch_channel_values, &
-    wheel_channel_values, wheelset_channel_values
-  use rd_body_spec, only: body_spec_t, DOF_Y, DOF_YAW, DOF_PITCH, deviation_from_spin
-  use rd_multibody, only: multibody_t, BODY_OUT_RELATIVE, BODY_OUT_FIXED, ELEMENT_OUT
+  use rd_wheel_contact_result, only: wheelset_result_t
+  use rd_body_spec, only: body_spec_t, DOF_Y, DOF_YAW, DOF_PITCH
+  use rd_multibody, only: multibody_t, multibody_output_t
   use rd_force_element, only: force_element_t
   use rd_force_provider, only: force_provider_t
   use rd_external_loads, only: external_loads_t
@@ -56,9 +53,18 @@ module rd_scene
   use rd_scene_jacobian, only: scene_jacobian_sparsity
   implicit none
   private
-  public :: scene_t, raildyn_version, state_layout
+  public :: scene_t, raildyn_version
 
   character(len=*), parameter :: raildyn_version = '0.1.0'
+
+  !> The scene's outputs at its time and state (calc_output), what the output table reads.
+  type :: scene_output_t
+    real(wp) :: speed = 0, sigma = 0               !< vehicle speed [m/s], arc length [m]
+    type(track_point_t), allocatable :: frames(:)  !< track frames at sigma + frame offset
+    type(multibody_output_t) :: mbs
+    type(wheelset_result_t), allocatable :: contact(:)
+    type(point_motion_t), allocatable :: sensors(:)
+  end type scene_output_t
 
   type :: scene_t
     private
@@ -157,6 +163,7 @@ module rd_scene
     procedure :: destroy => scene_destroy
     procedure, private :: build_mechanics
     procedure, private :: start_mechanics
+    procedure, private :: calc_output
     procedure, private :: refresh_outputs
     procedure, private :: write_step
     procedure, private :: write_record
@@ -181,10 +188,6 @@ module rd_scene
     module subroutine register_outputs(self)
       class(scene_t), intent(inout) :: self
     end subroutine register_outputs
-    module subroutine state_layout(mbs, components, units)
-      type(multibody_t), intent(in) :: mbs
-      character(len=:), allocatable, intent(out) :: components, units
-    end subroutine state_layout
     logical module function channel_written(self, i)
       class(scene_t), intent(in) :: self
       integer, intent(in) :: i
@@ -206,8 +209,14 @@ module rd_scene
       real(wp), intent(in) :: values(:)
       type(error_t), allocatable, intent(out) :: error
     end subroutine check_values
-    module subroutine refresh_outputs(self)
+    module subroutine calc_output(self, out, error)
       class(scene_t), intent(inout) :: self
+      type(scene_output_t), intent(out) :: out
+      type(error_t), allocatable, intent(out) :: error
+    end subroutine calc_output
+    module subroutine refresh_outputs(self, error)
+      class(scene_t), intent(inout) :: self
+      type(error_t), allocatable, intent(out) :: error
     end subroutine refresh_outputs
     ! rd_scene_startup: the mechanics built and started
     module subroutine build_mechanics(self, error)
@@ -586,7 +595,8 @@ contains
         if (t_out > t_target + 1e-9_wp * self%interval / self%average%samples) exit
         call integrate_to(t_out, min(real(self%output_steps, wp) * self%interval, max(t_target, t_out)))
         if (allocated(error)) return
-        call self%refresh_outputs()
+        call self%refresh_outputs(error)
+        if (allocated(error)) return
         call self%note_sample()
         sample = self%outputs%packed()
         ! a non-finite sub-sample stops the run at its own time (its mean would hide when)

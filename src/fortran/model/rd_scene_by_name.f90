@@ -164,7 +164,8 @@ contains
                       trim(int_text(size(values))))
       return
     end if
-    call self%refresh_outputs()
+    call self%refresh_outputs(error)
+    if (allocated(error)) return
     values = self%outputs%channels(id)%values
   end procedure scene_get_output
 

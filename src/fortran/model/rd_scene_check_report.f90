@@ -74,14 +74,20 @@ contains
     character(len=:), allocatable :: text
     real(wp) :: total, weight
     integer :: w, side
-    call self%refresh_outputs()
+    type(scene_output_t) :: out
+    type(error_t), allocatable :: error
     text = 'static wheel loads Q:'
+    call self%calc_output(out, error)
+    if (allocated(error)) then
+      text = text // ' n/a (' // error%message // ')'
+      return
+    end if
     total = 0
     do w = 1, size(self%wheelset_names)
       if (w > 1) text = text // ';'
       text = text // ' ' // trim(self%wheelset_names(w))
       do side = 1, 2
-        associate (q => self%contact%results(w)%wheel(side)%force_track(3))
+        associate (q => out%contact(w)%wheel(side)%force_track(3))
           text = text // ' ' // trim(merge('left ', 'right', side == 1)) // ' ' // trim(fixed_text(1e-3_wp * q, 2)) // ' kN'
           total = total + q
         end associate
@@ -121,6 +127,8 @@ contains
     real(wp), allocatable :: y0(:)
     real(wp) :: difference(2), shift(2)
     integer :: w, slot, z_slot, k, lowering
+    type(scene_output_t) :: out
+    type(error_t), allocatable :: error
     text = 'conicity (r_left - r_right of patch 1 at y = +-' // trim(fixed_text(1e3_wp * CONICITY_SHIFT, 0)) // &
            ' mm, divided by 2 y):'
     y0 = self%y
@@ -141,23 +149,29 @@ contains
           self%y = y0
           self%y(slot) = y0(slot) + shift(k)
           if (z_slot > 0) self%y(z_slot) = y0(z_slot) - lowering * LOWERING_STEP
-          call self%refresh_outputs()
-          if (self%contact%results(w)%wheel(1)%n_patches > 0 .and. &
-              self%contact%results(w)%wheel(2)%n_patches > 0) exit
+          call self%calc_output(out, error)     ! an error here: lowered further, as without contact
+          if (allocated(error)) cycle
+          if (out%contact(w)%wheel(1)%n_patches > 0 .and. out%contact(w)%wheel(2)%n_patches > 0) exit
         end do
-        associate (res => self%contact%results(w))
+        if (allocated(error)) exit
+        associate (res => out%contact(w))
           if (res%wheel(1)%n_patches == 0 .or. res%wheel(2)%n_patches == 0) exit
           difference(k) = res%wheel(1)%patch(1)%rolling_radius - res%wheel(2)%patch(1)%rolling_radius
         end associate
       end do
-      if (k <= 2) then
+      if (allocated(error)) then
+        text = text // 'n/a (' // error%message // ')'
+        deallocate (error)
+      else if (k <= 2) then
         text = text // 'n/a (a wheel without contact when shifted)'
       else
         text = text // trim(fixed_text((difference(1) - difference(2)) / (4 * CONICITY_SHIFT), 4))
       end if
     end do
+    ! evaluated at the state again: the quasi-static solve starts from its last solution
     self%y = y0
-    call self%refresh_outputs()
+    call self%calc_output(out, error)
+    if (allocated(error)) text = text // ' (at the state: ' // error%message // ')'
   end function conicities
 
   !> Circular curves found by scanning the track every CURVE_SCAN_STEP.

@@ -15,7 +15,7 @@
 module rd_scene_linearization
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_HANDLE, RD_ERR_INPUT
-  use rd_scene, only: scene_t, state_layout
+  use rd_scene, only: scene_t
   use rd_multibody, only: multibody_t
   use rd_body_spec, only: DOF_X, DOF_Y, DOF_Z, DOF_YAW, DOF_ROLL, DOF_PITCH
   use rd_deck, only: deck_string_t
@@ -68,7 +68,7 @@ contains
       end if
       a(:, j) = (fp - fm) / (2 * h)
     end do
-    ! leave the system's last evaluation at the state itself (outputs read it)
+    ! the system's last evaluation at the state itself: its quasi-static coordinates start there
     call mbs%rhs(t, y, fp, error, recoverable)
     if (present(rate)) rate = fp
   end subroutine linearize_scene
@@ -79,10 +79,12 @@ contains
     type(scene_t), intent(in) :: scene
     type(deck_string_t), allocatable :: names(:)
     character(len=:), allocatable :: components, units
+    type(multibody_t), pointer :: mbs
     integer :: j, start, length
     allocate (names(scene%state_size()))
     if (size(names) == 0) return
-    call state_layout(scene%system(), components, units)
+    mbs => scene%system()
+    call mbs%state_layout(components, units)
     components = components // ' '
     start = 1
     do j = 1, size(names)
@@ -202,7 +204,7 @@ contains
     character(len=:), allocatable :: name
     character(len=:), allocatable :: components, units
     integer :: k, start
-    call state_layout(mbs, components, units)
+    call mbs%state_layout(components, units)
     components = components // ' '
     start = 1
     do k = 1, j - 1

@@ -1,159 +1,143 @@
-!> The scene's output table: every channel registered once (register_outputs), filled
-!> from the models at the current time (refresh_outputs) and written as one record
-!> (write_step, write_record), with the &output groups that select what is written.
+!> The scene's output table: every channel defined by one row of `rows` (name, unit, column
+!> names, description) and filled by the same row from the outputs of one explicit evaluation
+!> at the current time and state (calc_output, OpenFAST's "calc output" step), then written
+!> as one record (write_step, write_record) with the &output groups that select what is written.
 submodule (rd_scene) rd_scene_output_table
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+  use rd_point_motion, only: compute_point_motion
+  use rd_body_spec, only: deviation_from_spin
+  use rd_body_kinematics, only: fixed_angles
+  use rd_wheel_contact_result, only: MAX_PATCHES, patch_channel_names, patch_channel_units, &
+    wheel_channel_names, wheel_channel_units, patch_channel_values, wheel_channel_values
   implicit none
+
+  !> What a row repeats over (its channels' path prefix): the vehicle, each track frame, body,
+  !> element, wheelset, wheel of a wheelset, patch slot of a wheel, sensor, and the state.
+  integer, parameter :: VEHICLE = 1, FRAME = 2, BODY = 3, ELEMENT = 4, WHEELSET = 5, WHEEL = 6, &
+                        PATCH = 7, SENSOR = 8, STATE = 9
+
+  !> One row per channel. unit: one SI token or one per column (docs/output.md); '*': the
+  !> unit and column names come from the contact's channel lists (rd_wheel_contact_result) or
+  !> the state's layout (multibody%state_layout); '#' in a description: the sensor's name.
+  type :: channel_row_t
+    integer :: each
+    character(len=24) :: name
+    character(len=48) :: unit
+    character(len=48) :: components
+    character(len=200) :: description
+  end type channel_row_t
+
+  type(channel_row_t), parameter :: rows(*) = [ &
+    channel_row_t(VEHICLE, 'speed', 'm/s', 'V', 'running speed V'), &
+    channel_row_t(VEHICLE, 'distance', 'm', 'sigma', 'arc length sigma of the vehicle reference point'), &
+    channel_row_t(FRAME, 'sigma', 'm', 'sigma', 'arc length of the track frame'), &
+    channel_row_t(FRAME, 'position', 'm', 'X Y Z', 'track frame origin in the fixed frame'), &
+    channel_row_t(FRAME, 'angles', 'rad', 'heading pitch cant', 'heading, pitch (-atan gradient) and cant angle of the track frame'), &
+    channel_row_t(FRAME, 'curvature', '1/m', 'kappa', 'horizontal curvature, > 0 for a left-hand curve'), &
+    channel_row_t(FRAME, 'superelevation', 'm', 'h', 'left rail over right rail'), &
+    channel_row_t(FRAME, 'angular_velocity', 'rad/s', 'wx wy wz', 'angular velocity of the moving track frame, track components'), &
+    channel_row_t(BODY, 'position_track', 'm m m rad rad rad', 'x y z yaw roll pitch', &
+                  'coordinates q relative to the track frame (wheelset pitch: spin deviation beta)'), &
+    channel_row_t(BODY, 'velocity_track', 'm/s m/s m/s rad/s rad/s rad/s', 'vx vy vz yaw_rate roll_rate pitch_rate', &
+                  'dq/dt relative to the track frame'), &
+    channel_row_t(BODY, 'acceleration_track', 'm/s^2 m/s^2 m/s^2 rad/s^2 rad/s^2 rad/s^2', &
+                  'ax ay az yaw_acc roll_acc pitch_acc', 'd2q/dt2 relative to the track frame'), &
+    channel_row_t(BODY, 'position_fixed', 'm', 'X Y Z', 'centre of mass, fixed frame'), &
+    channel_row_t(BODY, 'angles_fixed', 'rad', 'yaw roll pitch', 'Z-X-Y angles of the body frame relative to the fixed frame'), &
+    channel_row_t(BODY, 'velocity_fixed', 'm/s', 'vX vY vZ', 'velocity of the centre of mass, fixed frame'), &
+    channel_row_t(BODY, 'angular_velocity_fixed', 'rad/s', 'wX wY wZ', 'angular velocity, fixed frame'), &
+    channel_row_t(BODY, 'angular_velocity_body', 'rad/s', 'wx wy wz', 'angular velocity, body frame'), &
+    channel_row_t(BODY, 'acceleration_fixed', 'm/s^2', 'aX aY aZ', 'acceleration of the centre of mass, fixed frame'), &
+    channel_row_t(ELEMENT, 'deflection', 'm', 'dx dy dz', 'deflection in element axes (torsion: rad)'), &
+    channel_row_t(ELEMENT, 'force_element', 'N', 'fx fy fz', 'force on body 2 in element axes (torsion: moment, N*m)'), &
+    channel_row_t(ELEMENT, 'force_fixed', 'N', 'fX fY fZ', 'force on body 2, fixed frame'), &
+    channel_row_t(WHEELSET, 'summary', '1 N', 'derailment_quotient guiding_force_sum', &
+                  'derailment quotient (max Y/Q of the wheels) and sum of the guiding forces Y'), &
+    channel_row_t(WHEELSET, 'rail_offsets', 'm', 'dy_left dz_left dy_right dz_right', &
+                  'rails displaced by the track irregularities at the wheelset, track frame (zeros on the design track)'), &
+    channel_row_t(WHEEL, 'wheel', '*', '*', 'wheel: patches, force on the wheel in track components (longitudinal, Y, Q), ' // &
+                  'Y/Q (> 0 towards flange climb), largest penetration'), &
+    channel_row_t(PATCH, 'patch', '*', '*', &
+                  'contact patch (zeros when absent): geometry, normal force, creepages, creep forces on the wheel (contact frame)'), &
+    channel_row_t(SENSOR, 'position_track', 'm', 'x y z', &
+                  'position of sensor # (fixed to its body) relative to its body''s track frame, track components'), &
+    channel_row_t(SENSOR, 'position_fixed', 'm', 'X Y Z', 'position of sensor # (fixed to its body), fixed frame'), &
+    channel_row_t(SENSOR, 'velocity_track', 'm/s', 'vx vy vz', 'absolute velocity of sensor # (fixed to its body), track-frame components'), &
+    channel_row_t(SENSOR, 'acceleration_track', 'm/s^2', 'ax ay az', &
+                  'absolute acceleration of sensor # (fixed to its body), track-frame components'), &
+    channel_row_t(SENSOR, 'velocity_body', 'm/s', 'vx vy vz', 'absolute velocity of sensor # (fixed to its body), body-frame components'), &
+    channel_row_t(SENSOR, 'acceleration_body', 'm/s^2', 'ax ay az', &
+                  'absolute acceleration of sensor # (fixed to its body), body-frame components'), &
+    channel_row_t(SENSOR, 'specific_force_body', 'm/s^2', 'fx fy fz', &
+                  'accelerometer reading of sensor # (fixed to its body): acceleration minus gravity, body-frame components'), &
+    channel_row_t(STATE, 'y', '*', '*', 'integrator state y = [q_f; nu_f; x_el] (free coordinates, generalized velocities, ' // &
+                  'element states: rd_multibody); raildyn run --restart continues from a row of it')]
 
 contains
 
+  !> Every row's channels, instance after instance in the order of the file's groups.
   module procedure register_outputs
-    integer :: k, id
-    character(len=16) :: tag
+    integer :: k, side, j
+    character(len=5), parameter :: sides(2) = ['left ', 'right']
     call self%outputs%clear()
-    call self%outputs%add('vehicle/speed', 1, 'm/s', 'running speed V', 'V', id)
-    call self%outputs%add('vehicle/distance', 1, 'm', &
-                          'arc length sigma of the vehicle reference point', 'sigma', id)
+    call add_rows(VEHICLE, 'vehicle/', [0, 0, 0])
     do k = 1, size(self%frame_offsets)
-      write (tag, '(i0)') k
-      associate (p => 'track/frames/' // trim(tag) // '/')
-        call self%outputs%add(p // 'sigma', 1, 'm', 'arc length of the track frame', 'sigma', id)
-        call self%outputs%add(p // 'position', 3, 'm', &
-                              'track frame origin in the fixed frame', 'X Y Z', id)
-        call self%outputs%add(p // 'angles', 3, 'rad', &
-                              'heading, pitch (-atan gradient) and cant angle of the track frame', &
-                              'heading pitch cant', id)
-        call self%outputs%add(p // 'curvature', 1, '1/m', &
-                              'horizontal curvature, > 0 for a left-hand curve', 'kappa', id)
-        call self%outputs%add(p // 'superelevation', 1, 'm', &
-                              'left rail over right rail', 'h', id)
-        call self%outputs%add(p // 'angular_velocity', 3, 'rad/s', &
-                              'angular velocity of the moving track frame, track components', &
-                              'wx wy wz', id)
-      end associate
+      call add_rows(FRAME, 'track/frames/' // trim(int_text(k)) // '/', [k, 0, 0])
     end do
-    do k = 1, self%nbodies
-      associate (p => 'bodies/' // self%mbs%bodies(k)%name // '/')
-        call self%outputs%add(p // 'position_track', 6, 'm m m rad rad rad', &
-          'coordinates q relative to the track frame (wheelset pitch: spin deviation beta)', &
-          'x y z yaw roll pitch', id)
-        call self%outputs%add(p // 'velocity_track', 6, 'm/s m/s m/s rad/s rad/s rad/s', &
-          'dq/dt relative to the track frame', 'vx vy vz yaw_rate roll_rate pitch_rate', id)
-        call self%outputs%add(p // 'acceleration_track', 6, 'm/s^2 m/s^2 m/s^2 rad/s^2 rad/s^2 rad/s^2', &
-          'd2q/dt2 relative to the track frame', 'ax ay az yaw_acc roll_acc pitch_acc', id)
-        call self%outputs%add(p // 'position_fixed', 3, 'm', 'centre of mass, fixed frame', 'X Y Z', id)
-        call self%outputs%add(p // 'angles_fixed', 3, 'rad', &
-          'Z-X-Y angles of the body frame relative to the fixed frame', 'yaw roll pitch', id)
-        call self%outputs%add(p // 'velocity_fixed', 3, 'm/s', 'velocity of the centre of mass, fixed frame', &
-          'vX vY vZ', id)
-        call self%outputs%add(p // 'angular_velocity_fixed', 3, 'rad/s', 'angular velocity, fixed frame', &
-          'wX wY wZ', id)
-        call self%outputs%add(p // 'angular_velocity_body', 3, 'rad/s', 'angular velocity, body frame', &
-          'wx wy wz', id)
-        call self%outputs%add(p // 'acceleration_fixed', 3, 'm/s^2', &
-          'acceleration of the centre of mass, fixed frame', 'aX aY aZ', id)
-      end associate
-    end do
-    do k = 1, mbs_element_count(self)
-      associate (p => 'elements/' // self%mbs%elements(k)%e%name // '/')
-        call self%outputs%add(p // 'deflection', 3, 'm', &
-          'deflection in element axes (torsion: rad)', 'dx dy dz', id)
-        call self%outputs%add(p // 'force_element', 3, 'N', &
-          'force on body 2 in element axes (torsion: moment, N*m)', 'fx fy fz', id)
-        call self%outputs%add(p // 'force_fixed', 3, 'N', 'force on body 2, fixed frame', 'fX fY fZ', id)
-      end associate
-    end do
+    if (associated(self%mbs)) then
+      do k = 1, self%nbodies
+        call add_rows(BODY, 'bodies/' // self%mbs%bodies(k)%name // '/', [k, 0, 0])
+      end do
+      do k = 1, self%mbs%element_count()
+        call add_rows(ELEMENT, 'elements/' // self%mbs%elements(k)%e%name // '/', [k, 0, 0])
+      end do
+    end if
     if (associated(self%contact)) then
       do k = 1, size(self%wheelset_names)
-        associate (p => 'wheelsets/' // trim(self%wheelset_names(k)) // '/')
-          call self%outputs%add(p // 'summary', N_WHEELSET_CHANNELS, unit_tokens(wheelset_channel_units), &
-            'derailment quotient (max Y/Q of the wheels) and sum of the guiding forces Y', &
-            join(wheelset_channel_names), id)
-          call self%outputs%add(p // 'rail_offsets', 4, 'm', 'rails displaced by the track irregularities ' // &
-            'at the wheelset, track frame (zeros on the design track)', 'dy_left dz_left dy_right dz_right', id)
-          block
-            integer :: side, j
-            character(len=5), parameter :: sides(2) = ['left ', 'right']
-            character(len=8) :: tagj
-            do side = 1, 2
-              call self%outputs%add(p // trim(sides(side)) // '/wheel', N_WHEEL_CHANNELS, &
-                unit_tokens(wheel_channel_units), 'wheel: patches, force on the wheel in track ' // &
-                'components (longitudinal, Y, Q), Y/Q (> 0 towards flange climb), largest penetration', &
-                join(wheel_channel_names), id)
-              do j = 1, MAX_PATCHES
-                write (tagj, '(i0)') j
-                call self%outputs%add(p // trim(sides(side)) // '/patch' // trim(tagj), N_PATCH_CHANNELS, &
-                  unit_tokens(patch_channel_units), 'contact patch (zeros when absent): geometry, ' // &
-                  'normal force, creepages, creep forces on the wheel (contact frame)', &
-                  join(patch_channel_names), id)
-              end do
-            end do
-          end block
-        end associate
+        call add_rows(WHEELSET, 'wheelsets/' // trim(self%wheelset_names(k)) // '/', [k, 0, 0])
+        do side = 1, 2
+          call add_rows(WHEEL, 'wheelsets/' // trim(self%wheelset_names(k)) // '/' // trim(sides(side)) // '/', [k, side, 0])
+          do j = 1, MAX_PATCHES
+            call add_rows(PATCH, 'wheelsets/' // trim(self%wheelset_names(k)) // '/' // trim(sides(side)) // '/', [k, side, j])
+          end do
+        end do
       end do
     end if
     do k = 1, size(self%sensors)
-      associate (p => 'sensors/' // self%sensors(k)%name // '/', &
-                 on => ' of sensor ' // self%sensors(k)%name // ' (fixed to its body)')
-        call self%outputs%add(p // 'position_track', 3, 'm', 'position' // on // &
-          ' relative to its body''s track frame, track components', 'x y z', id)
-        call self%outputs%add(p // 'position_fixed', 3, 'm', 'position' // on // ', fixed frame', 'X Y Z', id)
-        call self%outputs%add(p // 'velocity_track', 3, 'm/s', 'absolute velocity' // on // &
-          ', track-frame components', 'vx vy vz', id)
-        call self%outputs%add(p // 'acceleration_track', 3, 'm/s^2', 'absolute acceleration' // on // &
-          ', track-frame components', 'ax ay az', id)
-        call self%outputs%add(p // 'velocity_body', 3, 'm/s', 'absolute velocity' // on // &
-          ', body-frame components', 'vx vy vz', id)
-        call self%outputs%add(p // 'acceleration_body', 3, 'm/s^2', 'absolute acceleration' // on // &
-          ', body-frame components', 'ax ay az', id)
-        call self%outputs%add(p // 'specific_force_body', 3, 'm/s^2', 'accelerometer reading' // on // &
-          ': acceleration minus gravity, body-frame components', 'fx fy fz', id)
-      end associate
+      call add_rows(SENSOR, 'sensors/' // self%sensors(k)%name // '/', [k, 0, 0])
     end do
-    if (associated(self%mbs)) then
-      block
-        character(len=:), allocatable :: components, units
-        call state_layout(self%mbs, components, units)
-        call self%outputs%add('state/y', self%mbs%state_size(), units, 'integrator state y = [q_f; nu_f; ' // &
-          'x_el] (free coordinates, generalized velocities, element states: rd_multibody); ' // &
-          'raildyn run --restart continues from a row of it', components, id)
-      end block
-    end if
+    if (associated(self%mbs)) call add_rows(STATE, 'state/', [0, 0, 0])
+  contains
+    !> The channels of the rows of kind `each` for one instance (a patch slot: its number after the name).
+    subroutine add_rows(each, prefix, instance)
+      integer, intent(in) :: each, instance(3)
+      character(len=*), intent(in) :: prefix
+      character(len=:), allocatable :: name, units, components, description
+      integer :: r, id, at
+      do r = 1, size(rows)
+        if (rows(r)%each /= each) cycle
+        name = prefix // trim(rows(r)%name)
+        units = trim(rows(r)%unit)
+        components = trim(rows(r)%components)
+        description = trim(rows(r)%description)
+        select case (each)
+        case (WHEEL)
+          units = join(wheel_channel_units); components = join(wheel_channel_names)
+        case (PATCH)
+          units = join(patch_channel_units); components = join(patch_channel_names)
+          name = name // trim(int_text(instance(3)))
+        case (SENSOR)
+          at = index(description, '#')
+          description = description(:at - 1) // self%sensors(instance(1))%name // description(at + 1:)
+        case (STATE)
+          call self%mbs%state_layout(components, units)
+        end select
+        call self%outputs%add(name, count([(components(at:at) == ' ', at = 1, len(components))]) &
+                              + merge(1, 0, len(components) > 0), units, description, components, id)
+        self%outputs%channels(id)%source = [r, instance]
+      end do
+    end subroutine add_rows
   end procedure register_outputs
-
-  !> Column names and SI unit tokens of the state vector, in rd_multibody's layout:
-  !> '<body>.<coordinate>' for q_f (a wheelset's pitch slot is its spin deviation beta),
-  !> '<body>.nu_<coordinate>' for nu_f, '<element>.x<k>' for the elements' internal states.
-  module procedure state_layout
-    character(len=5), parameter :: dof_names(6) = ['x    ', 'y    ', 'z    ', 'yaw  ', 'roll ', 'pitch']
-    character(len=5), parameter :: dof_units(6) = ['m    ', 'm    ', 'm    ', 'rad  ', 'rad  ', 'rad  ']
-    character(len=5), parameter :: rate_units(6) = ['m/s  ', 'm/s  ', 'm/s  ', 'rad/s', 'rad/s', 'rad/s']
-    character(len=:), allocatable :: q_names, q_units, nu_names, nu_units
-    character(len=16), allocatable :: el_units(:)
-    integer :: i, j, k
-    q_names = ''; q_units = ''; nu_names = ''; nu_units = ''
-    do i = 1, mbs%body_count()
-      do j = 1, 6
-        if (mbs%free_slot(i, j) == 0) cycle
-        q_names = q_names // ' ' // mbs%bodies(i)%name // '.' // trim(dof_names(j))
-        q_units = q_units // ' ' // trim(dof_units(j))
-        nu_names = nu_names // ' ' // mbs%bodies(i)%name // '.nu_' // trim(dof_names(j))
-        nu_units = nu_units // ' ' // trim(rate_units(j))
-      end do
-    end do
-    components = q_names // nu_names
-    units = q_units // nu_units
-    do i = 1, mbs%element_count()
-      if (allocated(el_units)) deallocate (el_units)
-      allocate (el_units(mbs%elements(i)%e%state_count()))
-      call mbs%elements(i)%e%state_units(el_units)
-      do k = 1, size(el_units)
-        components = components // ' ' // mbs%elements(i)%e%name // '.x' // trim(int_text(k))
-        units = units // ' ' // trim(el_units(k))
-      end do
-    end do
-    components = components(2:)
-    units = units(2:)
-  end procedure state_layout
 
   !> The &output groups entry a channel belongs to: its first path element, except the
   !> contact patch slots ('patches') under 'wheelsets'.
@@ -173,22 +157,6 @@ contains
     end do
   end procedure channel_written
 
-  !> Space-separated unit tokens (docs/output.md: no spaces inside a token, '1' for none).
-  pure function unit_tokens(units) result(text)
-    character(len=*), intent(in) :: units(:)
-    character(len=:), allocatable :: text
-    integer :: i
-    character(len=:), allocatable :: u
-    text = ''
-    do i = 1, size(units)
-      u = trim(units(i))
-      if (u == '-' .or. u == '') u = '1'
-      if (u == 'N m') u = 'N*m'
-      if (i > 1) text = text // ' '
-      text = text // u
-    end do
-  end function unit_tokens
-
   pure function join(words) result(text)
     character(len=*), intent(in) :: words(:)
     character(len=:), allocatable :: text
@@ -199,15 +167,10 @@ contains
     end do
   end function join
 
-  pure integer function mbs_element_count(self)
-    class(scene_t), intent(in) :: self
-    mbs_element_count = 0
-    if (associated(self%mbs)) mbs_element_count = self%mbs%element_count()
-  end function mbs_element_count
-
   !> Record the state at the current time.
   module procedure write_step
-    call self%refresh_outputs()
+    call self%refresh_outputs(error)
+    if (allocated(error)) return
     call self%note_sample()
     call self%write_record(self%outputs%packed(), error)
   end procedure write_step
@@ -266,98 +229,96 @@ contains
     end do
   end procedure check_values
 
-  module procedure refresh_outputs
-    integer :: k, j
-    real(wp) :: v, sigma
-    type(track_point_t) :: p
-    v = self%speed%speed(self%t)
-    sigma = self%vehicle_sigma(self%t)
-    j = 1
-    self%outputs%channels(j)%values(1) = v; j = j + 1
-    self%outputs%channels(j)%values(1) = sigma; j = j + 1
-    do k = 1, size(self%frame_offsets)
-      p = self%track%evaluate(sigma + self%frame_offsets(k))
-      self%outputs%channels(j)%values(1) = p%sigma; j = j + 1
-      self%outputs%channels(j)%values = p%r; j = j + 1
-      self%outputs%channels(j)%values = [p%heading, p%grade_angle, p%cant_angle]; j = j + 1
-      self%outputs%channels(j)%values(1) = p%curvature; j = j + 1
-      self%outputs%channels(j)%values(1) = p%superelevation; j = j + 1
-      self%outputs%channels(j)%values = v * p%omega; j = j + 1
-    end do
+  !> OpenFAST's "calc output" step for the scene: the outputs at its time and state, from
+  !> one evaluation of the multibody there (multibody%calc_output), whose error is returned.
+  module procedure calc_output
+    integer :: s
+    out%speed = self%speed%speed(self%t)
+    out%sigma = self%vehicle_sigma(self%t)
+    out%frames = [(self%track%evaluate(out%sigma + self%frame_offsets(s)), s = 1, size(self%frame_offsets))]
     if (self%nbodies == 0) return
-    block
-      real(wp) :: rel(BODY_OUT_RELATIVE), fix(BODY_OUT_FIXED), el(ELEMENT_OUT)
-      real(wp), allocatable :: ydot(:)
-      type(error_t), allocatable :: error
-      logical :: recoverable
-      integer :: i
-      ! One RHS evaluation at the output state refreshes kinematics, accelerations and
-      ! element forces (the integrator's last evaluation may be at another state).
-      allocate (ydot(size(self%y)))
-      call self%mbs%rhs(self%t, self%y, ydot, error, recoverable)
-      do i = 1, self%nbodies
-        call self%mbs%body_output_relative(i, rel)
-        call self%mbs%body_output_fixed(i, fix)
-        if (self%mbs%bodies(i)%is_wheelset) then
-          ! docs/conventions.md: a wheelset's pitch output is the spin deviation from
-          ! nominal rolling, beta = theta - s(t)/r0 (and its rates), not the spin angle.
-          associate (r0 => self%mbs%bodies(i)%r0)
-            rel(6) = deviation_from_spin(rel(6), self%mbs%speed%distance(self%t), r0)
-            rel(12) = deviation_from_spin(rel(12), self%mbs%speed%speed(self%t), r0)
-            rel(18) = deviation_from_spin(rel(18), self%mbs%speed%acceleration(self%t), r0)
-          end associate
-        end if
-        self%outputs%channels(j)%values = rel(1:6); j = j + 1
-        self%outputs%channels(j)%values = rel(7:12); j = j + 1
-        self%outputs%channels(j)%values = rel(13:18); j = j + 1
-        self%outputs%channels(j)%values = fix(1:3); j = j + 1
-        self%outputs%channels(j)%values = fix(4:6); j = j + 1
-        self%outputs%channels(j)%values = fix(7:9); j = j + 1
-        self%outputs%channels(j)%values = fix(10:12); j = j + 1
-        self%outputs%channels(j)%values = fix(13:15); j = j + 1
-        self%outputs%channels(j)%values = fix(16:18); j = j + 1
-      end do
-      do i = 1, self%mbs%element_count()
-        call self%mbs%element_output(i, el)
-        self%outputs%channels(j)%values = el(1:3); j = j + 1
-        self%outputs%channels(j)%values = el(4:6); j = j + 1
-        self%outputs%channels(j)%values = el(7:9); j = j + 1
-      end do
-      if (associated(self%contact)) then
-        block
-          integer :: w, side, k
-          do w = 1, size(self%wheelset_names)
-            associate (res => self%contact%results(w))
-              call wheelset_channel_values(res, self%outputs%channels(j)%values); j = j + 1
-              self%outputs%channels(j)%values = self%contact%rail_offsets(:, w); j = j + 1
-              do side = 1, 2
-                call wheel_channel_values(res%wheel(side), self%outputs%channels(j)%values); j = j + 1
-                do k = 1, MAX_PATCHES
-                  call patch_channel_values(res%wheel(side), k, self%outputs%channels(j)%values); j = j + 1
-                end do
-              end do
-            end associate
-          end do
-        end block
-      end if
-      ! sensors after the contact: their channels were registered before the state's
-      block
-        type(point_motion_t) :: m
-        integer :: s
-        do s = 1, size(self%sensors)
-          m = compute_point_motion(self%mbs%kin(self%sensors(s)%body), self%sensors(s)%position, &
-                                   self%mbs%gravity)
-          self%outputs%channels(j)%values = m%position_track; j = j + 1
-          self%outputs%channels(j)%values = m%position_fixed; j = j + 1
-          self%outputs%channels(j)%values = m%velocity_track; j = j + 1
-          self%outputs%channels(j)%values = m%acceleration_track; j = j + 1
-          self%outputs%channels(j)%values = m%velocity_body; j = j + 1
-          self%outputs%channels(j)%values = m%acceleration_body; j = j + 1
-          self%outputs%channels(j)%values = m%specific_force_body; j = j + 1
-        end do
-      end block
-      self%outputs%channels(j)%values = self%y; j = j + 1
-    end block
+    call self%mbs%calc_output(self%t, self%y, out%mbs, error)
+    if (allocated(error)) return
+    if (associated(self%contact)) out%contact = self%contact%results
+    out%sensors = [(compute_point_motion(out%mbs%bodies(self%sensors(s)%body), self%sensors(s)%position, &
+                    self%mbs%gravity), s = 1, size(self%sensors))]
+  end procedure calc_output
+
+  !> Every channel filled by its row (channel%source: row, instance) from calc_output.
+  module procedure refresh_outputs
+    type(scene_output_t) :: out
+    integer :: i
+    call self%calc_output(out, error)
+    if (allocated(error)) return
+    do i = 1, self%outputs%n
+      associate (r => self%outputs%channels(i)%source(1), k => self%outputs%channels(i)%source(2:4), &
+                 v => self%outputs%channels(i)%values)
+      v = ieee_value(v, ieee_quiet_nan)   ! a row without a fill below: non-finite, refused when written
+      select case (rows(r)%each)
+      case (VEHICLE)
+        v = merge(out%speed, out%sigma, rows(r)%name == 'speed')
+      case (FRAME)
+        associate (p => out%frames(k(1)))
+          select case (rows(r)%name)
+          case ('sigma'); v = p%sigma
+          case ('position'); v = p%r
+          case ('angles'); v = [p%heading, p%grade_angle, p%cant_angle]
+          case ('curvature'); v = p%curvature
+          case ('superelevation'); v = p%superelevation
+          case ('angular_velocity'); v = out%speed * p%omega
+          end select
+        end associate
+      case (BODY)
+        ! docs/conventions.md: a wheelset's pitch output is the spin deviation from nominal
+        ! rolling, beta = theta - s(t)/r0 (and its rates), not the spin angle
+        associate (b => out%mbs%bodies(k(1)), spin => self%mbs%bodies(k(1))%is_wheelset, &
+                   r0 => self%mbs%bodies(k(1))%r0, speed => self%mbs%speed)
+          select case (rows(r)%name)
+          case ('position_track'); v = b%q; if (spin) v(6) = deviation_from_spin(v(6), speed%distance(self%t), r0)
+          case ('velocity_track'); v = b%qdot; if (spin) v(6) = deviation_from_spin(v(6), speed%speed(self%t), r0)
+          case ('acceleration_track'); v = b%qddot; if (spin) v(6) = deviation_from_spin(v(6), speed%acceleration(self%t), r0)
+          case ('position_fixed'); v = b%r
+          case ('angles_fixed'); v = fixed_angles(b%rot)
+          case ('velocity_fixed'); v = b%v
+          case ('angular_velocity_fixed'); v = b%omega
+          case ('angular_velocity_body'); v = b%omega_body
+          case ('acceleration_fixed'); v = b%acc
+          end select
+        end associate
+      case (ELEMENT)
+        associate (e => out%mbs%elements(k(1)))
+          select case (rows(r)%name)
+          case ('deflection'); v = e%deflection
+          case ('force_element'); v = e%force_local
+          case ('force_fixed'); v = e%force
+          end select
+        end associate
+      case (WHEELSET)
+        associate (res => out%contact(k(1)))
+          if (rows(r)%name == 'summary') v = [res%derailment_quotient, res%guiding_force_sum]
+          if (rows(r)%name == 'rail_offsets') v = res%rail_offsets
+        end associate
+      case (WHEEL)
+        call wheel_channel_values(out%contact(k(1))%wheel(k(2)), v)
+      case (PATCH)
+        call patch_channel_values(out%contact(k(1))%wheel(k(2)), k(3), v)
+      case (SENSOR)
+        associate (m => out%sensors(k(1)))
+          select case (rows(r)%name)
+          case ('position_track'); v = m%position_track
+          case ('position_fixed'); v = m%position_fixed
+          case ('velocity_track'); v = m%velocity_track
+          case ('acceleration_track'); v = m%acceleration_track
+          case ('velocity_body'); v = m%velocity_body
+          case ('acceleration_body'); v = m%acceleration_body
+          case ('specific_force_body'); v = m%specific_force_body
+          end select
+        end associate
+      case (STATE)
+        v = self%y
+      end select
+      end associate
+    end do
   end procedure refresh_outputs
 
 end submodule rd_scene_output_table

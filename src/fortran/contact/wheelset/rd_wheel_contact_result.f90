@@ -1,16 +1,15 @@
 !> Results of the wheelset contact pipeline for one evaluation (thesis 5.2.3 outputs): per
 !> contact patch, per wheel and per wheelset, with the plain-array channel layout the scene
-!> writes (names and units below). Signs: docs/theory_wheelset.md, docs/conventions.md.
+!> writes (names and unit tokens below). Signs: docs/theory_wheelset.md, docs/conventions.md.
 module rd_wheel_contact_result
   use rd_kinds, only: wp
   use rd_contact_patch, only: MAX_PATCHES
   implicit none
   private
   public :: patch_result_t, wheel_result_t, wheelset_result_t, MAX_PATCHES
-  public :: N_PATCH_CHANNELS, N_WHEEL_CHANNELS, N_WHEELSET_CHANNELS
+  public :: N_PATCH_CHANNELS, N_WHEEL_CHANNELS
   public :: patch_channel_names, patch_channel_units, wheel_channel_names, wheel_channel_units
-  public :: wheelset_channel_names, wheelset_channel_units
-  public :: patch_channel_values, wheel_channel_values, wheelset_channel_values
+  public :: patch_channel_values, wheel_channel_values
 
   !> One contact patch. Contact-frame quantities: x_c rolling, y_c lateral (left), n rail -> wheel.
   type :: patch_result_t
@@ -55,6 +54,8 @@ module rd_wheel_contact_result
     real(wp) :: guiding_force_sum = 0       !< Y_left + Y_right (track Y_T, on the wheelset) [N]
     real(wp) :: force(3) = 0                !< resultant on the wheelset, fixed frame [N]
     real(wp) :: moment(3) = 0               !< about its CG, fixed frame [N m]
+    !> rails displaced at the wheelset (irregularities, rail bodies): dy_L dz_L dy_R dz_R, track frame [m]
+    real(wp) :: rail_offsets(4) = 0
   end type wheelset_result_t
 
   integer, parameter :: N_PATCH_CHANNELS = 23
@@ -64,19 +65,14 @@ module rd_wheel_contact_result
     'rail_point_x', 'rail_point_y', 'rail_point_z', 'contact_angle', 'rolling_radius', &
     'semi_axis_a', 'semi_axis_b', 'hertz_warning', 'reference_speed']
   character(len=*), parameter :: patch_channel_units(N_PATCH_CHANNELS) = [character(len=4) :: &
-    '-', 'm', 'N', '-', '-', '1/m', 'N', 'N', 'N m', 'm', 'm', 'm', 'm', 'm', 'm', 'm', 'm', &
-    'rad', 'm', 'm', 'm', '-', 'm/s']
+    '1', 'm', 'N', '1', '1', '1/m', 'N', 'N', 'N*m', 'm', 'm', 'm', 'm', 'm', 'm', 'm', 'm', &
+    'rad', 'm', 'm', 'm', '1', 'm/s']
 
   integer, parameter :: N_WHEEL_CHANNELS = 6
   character(len=*), parameter :: wheel_channel_names(N_WHEEL_CHANNELS) = [character(len=20) :: &
     'n_patches', 'force_longitudinal', 'force_lateral_Y', 'force_vertical_Q', 'Y_over_Q', 'max_penetration']
   character(len=*), parameter :: wheel_channel_units(N_WHEEL_CHANNELS) = [character(len=4) :: &
-    '-', 'N', 'N', 'N', '-', 'm']
-
-  integer, parameter :: N_WHEELSET_CHANNELS = 2
-  character(len=*), parameter :: wheelset_channel_names(N_WHEELSET_CHANNELS) = [character(len=20) :: &
-    'derailment_quotient', 'guiding_force_sum']
-  character(len=*), parameter :: wheelset_channel_units(N_WHEELSET_CHANNELS) = [character(len=4) :: '-', 'N']
+    '1', 'N', 'N', 'N', '1', 'm']
 
 contains
 
@@ -100,10 +96,5 @@ contains
     out = [real(wheel%n_patches, wp), wheel%force_track, wheel%y_over_q, wheel%max_penetration]
   end subroutine wheel_channel_values
 
-  pure subroutine wheelset_channel_values(res, out)
-    type(wheelset_result_t), intent(in) :: res
-    real(wp), intent(out) :: out(N_WHEELSET_CHANNELS)
-    out = [res%derailment_quotient, res%guiding_force_sum]
-  end subroutine wheelset_channel_values
 
 end module rd_wheel_contact_result

@@ -93,8 +93,6 @@ module rd_wheelset_contact
     type(wheelset_result_t), allocatable :: results(:)   !< last evaluation, per wheelset
     !> Track irregularities seen by every wheelset (none when not allocated).
     type(track_irregularity_t), allocatable :: irregularity
-    !> Rail offsets of the last evaluation, per wheelset: dy_L, dz_L, dy_R, dz_R [m], track frame.
-    real(wp), allocatable :: rail_offsets(:, :)
   contains
     procedure :: init => wheelset_contact_init
     procedure :: set_irregularity => wheelset_contact_set_irregularity
@@ -120,9 +118,7 @@ contains
     character(len=16) :: num
     if (allocated(self%models)) deallocate (self%models)
     if (allocated(self%results)) deallocate (self%results)
-    if (allocated(self%rail_offsets)) deallocate (self%rail_offsets)
-    allocate (self%models(size(specs)), self%results(size(specs)), self%rail_offsets(4, size(specs)))
-    self%rail_offsets = 0
+    allocate (self%models(size(specs)), self%results(size(specs)))
     do i = 1, size(specs)
       call build_one(specs(i), self%models(i), error)
       if (allocated(error)) then
@@ -343,7 +339,7 @@ contains
           return
         end if
       end do
-      self%rail_offsets(:, i) = pose(5:8)
+      res%rail_offsets = pose(5:8)
       hist = 0
       if (.not. (m%cache_valid .and. all(pose == m%cache_pose))) then
         do k = 1, cache_history
