@@ -32,7 +32,6 @@ program study_linear_modes
   character(len=64) :: env
   real(wp), allocatable :: y(:), yp(:), fp(:), fm(:), jac(:, :), wr(:), wi(:), vr(:, :), work(:), vl(:, :)
   integer :: n, nfree, j, info, k, order(2), lwork
-  logical :: recoverable
   character(len=8), parameter :: dof_name(6) = [character(len=8) :: 'x', 'y', 'z', 'yaw', 'roll', 'spin']
 
   call get_command_argument(1, deck)
@@ -90,9 +89,9 @@ program study_linear_modes
     h = 1.0e-7_wp * max(1.0e-2_wp, abs(y(j)))
     if (j <= nfree) h = h_coord            ! coordinates: m or rad (Hertz approach ~50 um)
     yp = y; yp(j) = y(j) + h
-    call mbs%rhs(t_eval, yp, fp, error, recoverable); call stop_on(error)
+    call mbs%rhs(t_eval, yp, fp, error); call stop_on(error)
     yp(j) = y(j) - h
-    call mbs%rhs(t_eval, yp, fm, error, recoverable); call stop_on(error)
+    call mbs%rhs(t_eval, yp, fm, error); call stop_on(error)
     jac(:, j) = (fp - fm) / (2 * h)
   end do
   if (block_body > 0) then

@@ -26,7 +26,7 @@ program study_quasi_static_balance
   real(wp) :: t, dz, droll, h
   real(wp), allocatable :: y(:), ydot(:), zr0(:, :), zr(:, :), r(:, :), rp(:, :), sols(:, :)
   integer :: w, n, nb, i, j, k, stat, unit, nsol, c
-  logical :: recoverable, found
+  logical :: found
   real(wp) :: jac(2, 2), det
 
   call get_command_argument(1, deck)
@@ -54,7 +54,7 @@ program study_quasi_static_balance
   mbs => scene%system()
   nb = mbs%body_count()
   allocate (zr0(2, nb), zr(2, nb), r(2, nb), rp(2, nb), sols(2, n * n))
-  call mbs%rhs(t, y, ydot, error, recoverable); call stop_on(error)
+  call mbs%rhs(t, y, ydot, error); call stop_on(error)
   zr0 = reshape([(mbs%bodies(i)%q0([DOF_Z, DOF_ROLL]), i = 1, nb)], [2, nb])
   print '(a, f0.6, a, i0)', 'state at t = ', t, ' s, wheelset body ', w
   print '(a, 4es14.6)', 'y [m], yaw [rad], solved z [m], roll [rad]: ', mbs%kin(w)%q(DOF_Y), mbs%kin(w)%q(DOF_YAW), &
@@ -81,7 +81,7 @@ program study_quasi_static_balance
       ! the solve from this start: the right-hand side with q0 = this grid point
       call mbs%quasi_static_balance(t, y, zr, r, error); call stop_on(error)
       mbs%qs_jacobian_valid = .false.
-      call mbs%rhs(t, y, ydot, error, recoverable)
+      call mbs%rhs(t, y, ydot, error)
       if (allocated(error)) then
         print '(a)', '  solve from here: ' // error%message
         deallocate (error)

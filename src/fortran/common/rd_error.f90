@@ -4,10 +4,20 @@
 !> "Not allocated" means success; callers write `if (allocated(error)) return`
 !> and may prepend their own context with `error_context`, so a failure deep
 !> inside reads like a one-line traceback. Library code never calls `stop`.
+!>
+!> The failure policy, in one place (docs/output.md "Killed and failed runs"): a failure
+!> is an error_t; it is recoverable only when made by `retry_error` (the quasi-static
+!> solve not converging, a NaN or Inf in a force or derivative: `nonfinite_error`), so
+!> that an integrator evaluating a trial step retries with a smaller one and the error
+!> becomes fatal only when the integrator gives up; every other error is fatal at once.
+!> A run that ends on an error records `run_status(error)` in its results file (the
+!> scene, for the runner and the C API alike), and its code is the C API's status and
+!> the runner's exit status (0 completed, 2 failure, 3 physics limit, ...).
 module rd_error
+  use rd_kinds, only: wp
   implicit none
   private
-  public :: error_t, make_error, error_context
+  public :: error_t, make_error, error_context, retry_error, nonfinite_error, run_status
   public :: RD_OK, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_PHYSICS, RD_ERR_IO, &
             RD_ERR_INTERNAL, RD_ERR_HANDLE, status_name
 
@@ -23,6 +33,7 @@ module rd_error
   type :: error_t
     integer :: code = RD_ERR_INTERNAL
     character(len=:), allocatable :: message
+    logical :: recoverable = .false.   !< a smaller step may succeed (set by retry_error only)
   end type error_t
 
 contains
@@ -44,6 +55,35 @@ contains
     if (.not. allocated(error)) return
     error%message = context // ': ' // error%message
   end subroutine error_context
+
+  !> A runtime error that a smaller integrator step may avoid (recoverable).
+  pure subroutine retry_error(error, message)
+    type(error_t), allocatable, intent(out) :: error
+    character(len=*), intent(in) :: message
+    call make_error(error, RD_ERR_RUNTIME, message)
+    error%recoverable = .true.
+  end subroutine retry_error
+
+  !> If `values` holds a NaN or Inf: a recoverable error naming `what` (a trial state too
+  !> far off gives one; the integrator retries with a smaller step). The caller's context
+  !> says when.
+  pure subroutine nonfinite_error(error, values, what)
+    ! here, not for the module: gfortran saves the FP environment around every procedure
+    ! that sees ieee_arithmetic (rd_hertz finite)
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    type(error_t), allocatable, intent(inout) :: error
+    real(wp), intent(in) :: values(:)
+    character(len=*), intent(in) :: what
+    if (.not. all(ieee_is_finite(values))) call retry_error(error, 'non-finite ' // what // ' (NaN or Inf)')
+  end subroutine nonfinite_error
+
+  !> What the results file of a run records at its end (/meta status, docs/output.md).
+  pure function run_status(error) result(status)
+    type(error_t), allocatable, intent(in) :: error
+    character(len=:), allocatable :: status
+    status = 'completed'
+    if (allocated(error)) status = 'failed: ' // error%message
+  end function run_status
 
   pure function status_name(code) result(name)
     integer, intent(in) :: code

@@ -18,17 +18,15 @@ module rd_ode_system
   end type ode_system_t
 
   abstract interface
-    !> Evaluate ydot = f(t, y). On failure allocate `error`; set `recoverable` when a
-    !> smaller step may succeed (e.g. a contact search outside its range), so that
-    !> SUNDIALS can retry instead of giving up.
-    subroutine rhs_i(self, t, y, ydot, error, recoverable)
+    !> Evaluate ydot = f(t, y). On failure allocate `error`, recoverable when a smaller
+    !> step may succeed (rd_error's policy: retry_error, nonfinite_error).
+    subroutine rhs_i(self, t, y, ydot, error)
       import :: ode_system_t, wp, error_t
       class(ode_system_t), intent(inout) :: self
       real(wp), intent(in) :: t
       real(wp), intent(in) :: y(:)
       real(wp), intent(out) :: ydot(:)
       type(error_t), allocatable, intent(out) :: error
-      logical, intent(out) :: recoverable
     end subroutine rhs_i
     pure function size_i(self) result(n)
       import :: ode_system_t

@@ -24,8 +24,9 @@
 module rd_multibody
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp, standard_gravity
-  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_INTERNAL, &
-                      RD_ERR_PHYSICS
+  use rd_error, only: error_t, make_error, error_context, retry_error, nonfinite_error, RD_ERR_INPUT, &
+                      RD_ERR_RUNTIME, RD_ERR_INTERNAL, RD_ERR_PHYSICS
+  use rd_text, only: sci_text
   use rd_rotation, only: cross
   use rd_text, only: int_text
   use rd_ode_system, only: ode_system_t
@@ -406,17 +407,14 @@ contains
 
   !> y' = f(t, y): kinematics, loads (gravity, elements, providers, override), then the
   !> equations of motion body by body (docs/theory.md eqs. T1-T3, R1-R4).
-  subroutine rhs(self, t, y, ydot, error, recoverable)
+  subroutine rhs(self, t, y, ydot, error)
     class(multibody_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(out) :: ydot(:)
     type(error_t), allocatable, intent(out) :: error
-    logical, intent(out) :: recoverable
     integer :: i
-    character(len=64) :: buf
     logical :: loads_ready
-    recoverable = .false.
     if (size(y) /= self%state_size() .or. size(ydot) /= size(y)) then
       call make_error(error, RD_ERR_INTERNAL, 'multibody%rhs: state vector has the wrong size'); return
     end if
@@ -431,7 +429,7 @@ contains
     end do
     loads_ready = .false.
     if (self%has_quasi_static .and. .not. self%hold_quasi_static) then
-      call solve_quasi_static(self, t, y, ydot, loads_ready, error, recoverable)
+      call solve_quasi_static(self, t, y, ydot, loads_ready, error)
       if (allocated(error)) return
     end if
     if (.not. loads_ready) then
@@ -441,10 +439,20 @@ contains
     do i = 1, size(self%bodies)
       call body_equations(self, i, ydot)
     end do
-    if (any(.not. ieee_is_finite(ydot))) then
-      write (buf, '(es12.5)') t
-      call make_error(error, RD_ERR_RUNTIME, 'multibody%rhs: NaN or Inf in the state derivative at t = ' // trim(buf) // ' s')
-    end if
+    if (all(ieee_is_finite(ydot))) return
+    ! what is non-finite, first element force or body load first (rd_error's policy:
+    ! recoverable, the integrator retries with a smaller step)
+    do i = 1, size(self%elements)
+      call nonfinite_error(error, [self%el_res(i)%force, self%el_res(i)%moment], &
+                           'force of element "' // self%elements(i)%e%name // '"')
+      if (allocated(error)) return
+    end do
+    do i = 1, size(self%bodies)
+      call nonfinite_error(error, [self%loads(i)%force, self%loads(i)%moment, self%loads(i)%moment_attach], &
+                           'load on body "' // name_of(self, i) // '" (gravity, elements, contact, external loads)')
+      if (allocated(error)) return
+    end do
+    call nonfinite_error(error, ydot, 'state derivative')
   end subroutine rhs
 
   !> Quasi-static coordinates (a wheelset's z and roll on quasi-static normal contact):
@@ -467,14 +475,13 @@ contains
   !> residual was evaluated there), so that the caller need not evaluate them again. Why
   !> the coordinates are condensed at all: docs/theory_flange_chatter.md section 9 (elastic wheelset contact modes on rigid track
   !> couple into a friction flutter at a saturated flange contact).
-  subroutine solve_quasi_static(self, t, y, ydot, loads_ready, error, recoverable)
+  subroutine solve_quasi_static(self, t, y, ydot, loads_ready, error)
     class(multibody_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(inout) :: ydot(:)
     logical, intent(out) :: loads_ready
     type(error_t), allocatable, intent(out) :: error
-    logical, intent(out) :: recoverable
     integer, parameter :: max_iterations = 200
     !> Converged when the update is below 1e-13 (m, rad): on a Hertz stiffness of ~1e9 N/m
     !> that is 1e-4 N, and ~5e-8 m/s^2 of noise between nearby evaluations, below 1e-3 of what
@@ -512,8 +519,6 @@ contains
     real(wp) :: before(2, size(self%bodies)), r_before(2, size(self%bodies))
     !> consecutive slow chord steps per body
     integer :: slow_steps(size(self%bodies))
-    character(len=32) :: buf
-    recoverable = .false.
     loads_ready = .false.
     qs = [(any(self%bodies(i)%quasi_static), i = 1, size(self%bodies))]
     call extrapolate_start()
@@ -636,9 +641,7 @@ contains
     ! not converged: back to where this evaluation started (a retry starts from there too)
     loads_ready = .false.
     call shift_quasi_static(start - quasi_static_coordinates())
-    write (buf, '(es12.5)') t
-    recoverable = .true.
-    call make_error(error, RD_ERR_RUNTIME, 'quasi-static normal contact did not converge at t = ' // trim(buf) // &
+    call retry_error(error, 'quasi-static normal contact did not converge at t = ' // trim(sci_text(t, 5)) // &
                     ' s (a wheelset near lift-off or derailment)')
 
   contains
@@ -1057,8 +1060,7 @@ contains
     type(multibody_output_t), intent(out) :: out
     type(error_t), allocatable, intent(out) :: error
     real(wp) :: ydot(size(y))
-    logical :: recoverable
-    call self%rhs(t, y, ydot, error, recoverable)
+    call self%rhs(t, y, ydot, error)
     if (allocated(error)) return
     out%bodies = self%kin
     out%elements = self%el_res

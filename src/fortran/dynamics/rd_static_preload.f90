@@ -133,7 +133,6 @@ contains
     real(wp), allocatable :: ydot(:), a0(:), g(:, :), b(:), s(:), work(:), p(:)
     real(wp) :: wq(1)
     integer :: iwq(1)
-    logical :: rec
     residual = huge(1.0_wp)
     ne = mb%nfree
     allocate (first(mb%element_count()))
@@ -159,7 +158,7 @@ contains
     allocate (ydot(size(y)), p(np), g(ne, np))
     p = 0
     call apply(p)
-    call mb%rhs(t, y, ydot, error, rec)
+    call mb%rhs(t, y, ydot, error)
     if (allocated(error)) then
       call error_context(error, 'static preloads'); return
     end if
@@ -168,7 +167,7 @@ contains
       p = 0
       p(j) = 1
       call apply(p)
-      call mb%rhs(t, y, ydot, error, rec)
+      call mb%rhs(t, y, ydot, error)
       if (allocated(error)) then
         call error_context(error, 'static preloads'); return
       end if
@@ -195,7 +194,7 @@ contains
     end if
     p = b(1:np)
     call apply(p)
-    call mb%rhs(t, y, ydot, error, rec)
+    call mb%rhs(t, y, ydot, error)
     if (allocated(error)) then
       call error_context(error, 'static preloads'); return
     end if
@@ -356,8 +355,7 @@ contains
       real(wp), intent(in) :: yy(:)
       real(wp), intent(out) :: res(:)
       real(wp) :: ydot(size(yy))
-      logical :: rec
-      call mb%rhs(t, yy, ydot, error, rec)
+      call mb%rhs(t, yy, ydot, error)
       res = ydot(equation)
     end subroutine static_residual
   end subroutine solve_static_positions

@@ -40,7 +40,6 @@ contains
     real(wp), allocatable :: y(:), yp(:), fp(:), fm(:)
     real(wp) :: h, t
     integer :: n, j
-    logical :: recoverable
     n = scene%state_size()
     mbs => scene%system()
     if (n == 0 .or. .not. associated(mbs)) then
@@ -56,10 +55,10 @@ contains
       h = 1.0e-8_wp * max(1.0_wp, abs(y(j)))
       yp = y
       yp(j) = y(j) + h
-      call mbs%rhs(t, yp, fp, error, recoverable)
+      call mbs%rhs(t, yp, fp, error)
       if (.not. allocated(error)) then
         yp(j) = y(j) - h
-        call mbs%rhs(t, yp, fm, error, recoverable)
+        call mbs%rhs(t, yp, fm, error)
       end if
       if (allocated(error)) then
         call error_context(error, 'linearize: state ' // trim(int_text(j)) // ' (' // &
@@ -69,7 +68,7 @@ contains
       a(:, j) = (fp - fm) / (2 * h)
     end do
     ! the system's last evaluation at the state itself: its quasi-static coordinates start there
-    call mbs%rhs(t, y, fp, error, recoverable)
+    call mbs%rhs(t, y, fp, error)
     if (present(rate)) rate = fp
   end subroutine linearize_scene
 

@@ -237,7 +237,6 @@ contains
     logical, intent(in) :: on_level_track
     real(wp), allocatable :: ydot(:)
     type(error_t), allocatable :: error
-    logical :: recoverable
     integer :: e
     type(level_straight_track_t), target :: level
     class(track_geometry_t), pointer :: actual
@@ -246,7 +245,7 @@ contains
     if (on_level_track) mbs%track => level
     ! the deck's configuration as it stands: quasi-static wheelsets are not moved to their balance
     mbs%hold_quasi_static = .true.
-    call mbs%rhs(0.0_wp, y, ydot, error, recoverable)
+    call mbs%rhs(0.0_wp, y, ydot, error)
     mbs%hold_quasi_static = .false.
     mbs%track => actual
     do e = 1, mbs%element_count()

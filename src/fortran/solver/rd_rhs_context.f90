@@ -5,12 +5,13 @@
 !>
 !> Every RHS evaluation of every method goes through `evaluate_rhs`, which turns the
 !> system's error object into SUNDIALS' return convention (0 ok, > 0 recoverable,
-!> < 0 fatal) and refuses non-finite derivatives, so a NaN never enters the state silently.
+!> < 0 fatal; which errors are recoverable: rd_error) and refuses non-finite derivatives
+!> (recoverable), so a NaN never enters the state silently.
 module rd_rhs_context
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_text, only: int_text, sci_text
   use rd_kinds, only: wp, i8
-  use rd_error, only: error_t, make_error, error_context, RD_ERR_RUNTIME
+  use rd_error, only: error_t, error_context, nonfinite_error, retry_error
   use rd_ode_system, only: ode_system_t
   use rd_coloured_jacobian, only: jacobian_sparsity_t, dq_minimum_increment, dq_increment
   implicit none
@@ -66,39 +67,24 @@ contains
     real(wp), intent(out) :: ydot(:)
     integer :: status
     type(error_t), allocatable :: error
-    logical :: recoverable
-    integer :: i
 
     if (self%fatal) then
       ydot = 0.0_wp
       status = RHS_FATAL
       return
     end if
-    recoverable = .false.
-    call self%system%rhs(t, y, ydot, error, recoverable)
-    if (allocated(error)) then
-      call error_context(error, 'rhs at t = ' // trim(sci_text(t, 8)) // ' s')
-      call move_alloc(error, self%rhs_error)
-      self%rhs_failures = self%rhs_failures + 1
-      status = merge(RHS_RECOVERABLE, RHS_FATAL, recoverable)
-      self%fatal = .not. recoverable
-      return
-    end if
-    do i = 1, size(ydot)
-      if (.not. ieee_is_finite(ydot(i))) then
-        ! A non-finite derivative is often a trial state far off (too large a step);
-        ! report it as recoverable so an adaptive method retries with a smaller step.
-        call make_error(self%rhs_error, RD_ERR_RUNTIME, 'rhs at t = ' // trim(sci_text(t, 8)) // &
-                        ' s returned a non-finite derivative (NaN or Inf) in component ' // &
-                        trim(int_text(i)))
-        if (.not. all(ieee_is_finite(y))) self%rhs_error%message = &
-          self%rhs_error%message // ' (the state itself is non-finite)'
-        self%rhs_failures = self%rhs_failures + 1
-        status = RHS_RECOVERABLE
-        return
-      end if
-    end do
+    call self%system%rhs(t, y, ydot, error)
     status = RHS_OK
+    if (.not. allocated(error)) then
+      if (all(ieee_is_finite(ydot))) return
+      call nonfinite_error(error, ydot, 'derivative in component ' // &
+                           trim(int_text(findloc(ieee_is_finite(ydot), .false., 1))))
+    end if
+    call error_context(error, 'rhs at t = ' // trim(sci_text(t, 8)) // ' s')
+    status = merge(RHS_RECOVERABLE, RHS_FATAL, error%recoverable)
+    self%fatal = .not. error%recoverable
+    call move_alloc(error, self%rhs_error)
+    self%rhs_failures = self%rhs_failures + 1
   end function evaluate_rhs
 
   !> jac = df/dy at (t, y) through the user's Jacobian procedure.
@@ -124,13 +110,10 @@ contains
       status = RHS_FATAL
       return
     end if
-    if (.not. all(ieee_is_finite(jac))) then
-      call make_error(self%rhs_error, RD_ERR_RUNTIME, 'jacobian at t = ' // trim(sci_text(t, 8)) // &
-                      ' s has a non-finite entry (NaN or Inf)')
-      status = RHS_RECOVERABLE
-      return
-    end if
     status = RHS_OK
+    if (all(ieee_is_finite(jac))) return
+    call retry_error(self%rhs_error, 'jacobian at t = ' // trim(sci_text(t, 8)) // ' s: non-finite entry (NaN or Inf)')
+    status = RHS_RECOVERABLE
   end function evaluate_jacobian
 
   !> jac = df/dy at (t, y) by coloured forward differences (rd_coloured_jacobian): one RHS

@@ -114,7 +114,6 @@ contains
     logical, intent(out) :: ok
     real(wp), allocatable :: k1(:), k2(:), k3(:), k4(:)
     type(error_t), allocatable :: error
-    logical :: rec
     integer :: i, n
     real(wp) :: t, dt
     allocate (k1(size(y)), k2(size(y)), k3(size(y)), k4(size(y)))
@@ -123,13 +122,13 @@ contains
     ok = .true.
     t = t0
     do i = 1, n
-      call sys%rhs(t, y, k1, error, rec)
+      call sys%rhs(t, y, k1, error)
       if (allocated(error)) goto 90
-      call sys%rhs(t + dt / 2, y + dt / 2 * k1, k2, error, rec)
+      call sys%rhs(t + dt / 2, y + dt / 2 * k1, k2, error)
       if (allocated(error)) goto 90
-      call sys%rhs(t + dt / 2, y + dt / 2 * k2, k3, error, rec)
+      call sys%rhs(t + dt / 2, y + dt / 2 * k2, k3, error)
       if (allocated(error)) goto 90
-      call sys%rhs(t + dt, y + dt * k3, k4, error, rec)
+      call sys%rhs(t + dt, y + dt * k3, k4, error)
       if (allocated(error)) goto 90
       y = y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
       t = t0 + i * dt

@@ -49,17 +49,15 @@ contains
     n = 18
   end function abs_size
 
-  subroutine abs_rhs(self, t, y, ydot, error, recoverable)
+  subroutine abs_rhs(self, t, y, ydot, error)
     class(absolute_body_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(out) :: ydot(:)
     type(error_t), allocatable, intent(out) :: error
-    logical, intent(out) :: recoverable
     type(track_point_t) :: tp
     real(wp) :: r(3, 3), a(3, 3), wa(3), v, f(3), mom(3), p1(3), p2(3), v1(3), v2(3), d(3), dd(3), fl(3), wb(3)
     integer :: i
-    recoverable = .false.
     v = self%speed%speed(t)
     tp = self%track%evaluate(self%sigma0 + self%speed%distance(t))
     a = tp%a
@@ -182,7 +180,7 @@ contains
     real(wp) :: z(18), t, dr, drot, scale, a(3, 3), om(3), v0, rates(3)
     type(track_point_t) :: tp
     integer :: i, step
-    logical :: ok, ok2, rec
+    logical :: ok, ok2
     character(len=120) :: buf
 
     body(1)%name = 'body'
@@ -246,7 +244,7 @@ contains
       ok = .not. allocated(error)
       call int_ab%advance(t, z, error)
       ok2 = .not. allocated(error)
-      call mb%rhs(t, y, ydot, error, rec)
+      call mb%rhs(t, y, ydot, error)
       dr = max(dr, norm2(mb%kin(1)%r - z(1:3)))
       drot = max(drot, maxval(abs(mb%kin(1)%rot - reshape(z(7:15), [3, 3]))))
       scale = max(scale, norm2(mb%kin(1)%q(1:3) - body(1)%q0(1:3)))   ! amplitude of the relative motion

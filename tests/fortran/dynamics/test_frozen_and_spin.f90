@@ -64,7 +64,7 @@ contains
     type(body_spec_t) :: body(2)
     type(linear_spring_damper_t) :: spring
     real(wp), allocatable :: y(:), ydot(:)
-    logical :: ok, rec
+    logical :: ok
     integer :: i
     do i = 1, 2
       body(i)%mass = 500
@@ -85,7 +85,7 @@ contains
     allocate (y(mb%state_size()), ydot(mb%state_size()))
     call mb%initial_state(y, error)
     call rk4_integrate(mb, 0.0_wp, 1.0_wp, 1.0e-3_wp, y, ok)
-    call mb%rhs(1.0_wp, y, ydot, error, rec)
+    call mb%rhs(1.0_wp, y, ydot, error)
     call check(all(mb%kin(2)%q([1, 3, 5]) == body(2)%q0([1, 3, 5])), 'frozen coordinates stay exactly at q0')
     call check(all(mb%kin(2)%qdot([1, 3, 5]) == 0) .and. &
                all(mb%kin(2)%qddot([1, 3, 5]) == 0), 'frozen rates and accelerations are zero')
@@ -101,7 +101,7 @@ contains
     type(multibody_t), target :: mb
     type(body_spec_t) :: body(1)
     real(wp), allocatable :: y(:), ydot(:)
-    logical :: ok, rec
+    logical :: ok
     type(integrator_t) :: integ
     type(integrator_settings_t) :: settings
     body(1)%name = 'wheelset'
@@ -123,7 +123,7 @@ contains
     ok = .not. allocated(error)
     call check(ok, 'integration')
     call integ%destroy()
-    call mb%rhs(t_end, y, ydot, error, rec)
+    call mb%rhs(t_end, y, ydot, error)
     theta = mb%kin(1)%q(6)
     if (frozen_spin) then
       beta = beta0
@@ -141,7 +141,6 @@ contains
     real(wp), allocatable :: y(:), ydot(:)
     real(wp), parameter :: phi_t = -0.1_wp
     real(wp) :: expect(3)
-    logical :: rec
     class(track_geometry_t), pointer :: circle
     allocate (canted_circle_t :: circle)
     select type (circle)
@@ -165,15 +164,15 @@ contains
     call mb%initial_state(y, error)
     ! t = 0: track-frame force along X_T, body-frame moment about the body z (= track z
     ! for a pure yaw): xdd = 10/m, yaw acceleration 8/Jz; the fixed-frame force is off
-    call mb%rhs(0.0_wp, y, ydot, error, rec)
+    call mb%rhs(0.0_wp, y, ydot, error)
     call check(abs(ydot(7) - 0.1_wp) < 1e-14_wp .and. abs(ydot(8)) < 1e-14_wp .and. abs(ydot(9)) < 1e-14_wp, 'track-frame load')
     call check(abs(ydot(10) - 0.2_wp) < 1e-14_wp, 'body-frame moment')
     ! t = 1.5: fixed-frame +Z force 50 N seen in the canted track frame: (0, sin, cos)(phi_t)
-    call mb%rhs(1.5_wp, y, ydot, error, rec)
+    call mb%rhs(1.5_wp, y, ydot, error)
     expect = [0.1_wp, 0.5_wp * sin(phi_t), 0.5_wp * cos(phi_t)]
     call check(maxval(abs(ydot(7:9) - expect)) < 1e-14_wp, 'fixed-frame load switched on')
     call mb%set_override_load(1, [0.0_wp, 0.0_wp, -50.0_wp], [0.0_wp, 0.0_wp, 0.0_wp], error)
-    call mb%rhs(1.5_wp, y, ydot, error, rec)
+    call mb%rhs(1.5_wp, y, ydot, error)
     call check(maxval(abs(ydot(7:9) - [0.1_wp, 0.0_wp, 0.0_wp])) < 1e-14_wp, 'override load adds')
     call mb%set_override_load(2, [0.0_wp, 0.0_wp, -50.0_wp], [0.0_wp, 0.0_wp, 0.0_wp], error)
     call check(allocated(error), 'override load: bad body index rejected')
@@ -183,7 +182,6 @@ contains
     type(multibody_t), target :: mb
     type(body_spec_t) :: body(1)
     real(wp), allocatable :: y(:), ydot(:)
-    logical :: rec
     body(1)%name = 'bad'
     body(1)%inertia = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
     call mb%init(body, [0.0_wp], track, constant_speed(1.0_wp), error)
@@ -198,7 +196,7 @@ contains
     allocate (y(mb%state_size()), ydot(mb%state_size()))
     call mb%initial_state(y, error)
     y(5) = 2 * atan(1.0_wp)          ! 90 deg roll
-    call mb%rhs(0.0_wp, y, ydot, error, rec)
+    call mb%rhs(0.0_wp, y, ydot, error)
     call check(allocated(error), '90 deg roll reported as an error')
     if (allocated(error)) print '(a)', '  message: ' // error%message
   end subroutine errors_check

@@ -78,7 +78,6 @@ contains
     type(error_t), allocatable :: error
     real(wp), allocatable :: y(:), yp(:), ym(:), fp(:), fm(:), jac(:, :), wr(:), wi(:), work(:), vl(:, :), vr(:, :)
     integer :: n, j, info
-    logical :: rec
     real(wp) :: h
     allocate (straight_track_t :: track)
     body(1)%name = 'hanging'
@@ -99,8 +98,8 @@ contains
       h = 1.0e-6_wp
       yp = y; yp(j) = yp(j) + h
       ym = y; ym(j) = ym(j) - h
-      call mb%rhs(0.0_wp, yp, fp, error, rec)
-      call mb%rhs(0.0_wp, ym, fm, error, rec)
+      call mb%rhs(0.0_wp, yp, fp, error)
+      call mb%rhs(0.0_wp, ym, fm, error)
       jac(:, j) = (fp - fm) / (2 * h)
     end do
     call dgeev('N', 'N', n, jac, n, wr, wi, vl, 1, vr, 1, work, size(work), info)

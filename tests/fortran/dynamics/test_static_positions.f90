@@ -36,7 +36,7 @@ program test_static_positions
   real(wp), allocatable :: y(:), ydot(:)
   real(wp) :: residual, z_expected, tension
   integer :: n, kx, ky, kz_slot, kd
-  logical :: held(6, 1), rec
+  logical :: held(6, 1)
   character(len=200) :: buf
 
   track%kappa = 1.0_wp / 500
@@ -90,7 +90,7 @@ program test_static_positions
 
   ! the model at the solution, frame at rest (the solve's frozen time)
   mb%speed = constant_speed(0.0_wp)
-  call mb%rhs(0.0_wp, y, ydot, error, rec)
+  call mb%rhs(0.0_wp, y, ydot, error)
   call stop_on(error, 'rhs')
   tension = -mb%el_res(2)%force_local(1)
   write (buf, '(a, es10.3, a, es10.3, a, es10.3, a)') 'series tension ', tension, ' N, damper rate ', &

@@ -81,7 +81,7 @@ contains
     real(wp), allocatable :: y(:), y0(:), ydot(:)
     real(wp) :: fz
     integer :: k, e
-    logical :: ok, rec
+    logical :: ok
     type(multibody_output_t) :: o
     call build(mb, v)
     call check(mb%state_size() == 84, '42 free coordinates')
@@ -92,7 +92,7 @@ contains
       print '(a)', 'FAIL: ' // error%message; error stop 1
     end if
     ! hand statics (vertical element components = preload z, element axes vertical here)
-    call mb%rhs(0.0_wp, y, ydot, error, rec)
+    call mb%rhs(0.0_wp, y, ydot, error)
     qdd_max = maxval(abs(ydot(43:84)))
     call mb%calc_output(0.0_wp, y, o, error)
     do e = 1, mb%element_count()

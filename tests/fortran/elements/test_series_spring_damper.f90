@@ -23,7 +23,7 @@ program test_series_spring_damper
   real(wp) :: t, out(9), err, tension, line(3)
   type(multibody_output_t) :: o
   integer :: i
-  logical :: ok, rec
+  logical :: ok
   character(len=100) :: buf
 
   allocate (straight_track_t :: track)
@@ -39,7 +39,7 @@ program test_series_spring_damper
   call check(mb%state_size() == 1, 'state = the damper elongation only')
   allocate (y(1), ydot(1))
   call mb%initial_state(y, error)
-  call mb%rhs(0.0_wp, y, ydot, error, rec)
+  call mb%rhs(0.0_wp, y, ydot, error)
   call mb%calc_output(0.0_wp, y, o, error)
   out = [o%elements(1)%deflection, o%elements(1)%force_local, o%elements(1)%force]
   call check(abs(out(4)) < 1e-9_wp .and. abs(ydot(1)) < 1e-15_wp, 'starts relaxed')

@@ -325,13 +325,12 @@ contains
     type(multibody_t), pointer :: mbs
     type(error_t), allocatable :: error
     real(wp), allocatable :: y(:), ydot(:)
-    logical :: rec
     integer :: i
     mbs => scene%system()
     allocate (y(scene%state_size()), ydot(scene%state_size()))
     call scene%get_state(y, error)
     call stop_on(error, 'state')
-    call mbs%rhs(0.0_wp, y, ydot, error, rec)
+    call mbs%rhs(0.0_wp, y, ydot, error)
     call stop_on(error, 'RHS at the static state')
     c = [mbs%kin(1)%q(3), mbs%kin(2)%q(2), mbs%kin(2)%q(3), mbs%kin(3)%q(2), mbs%kin(3)%q(3), mbs%kin(1)%q(2)]
     call check(mbs%free_slot(2, DOF_Y) > 0 .and. mbs%free_slot(2, DOF_Z) > 0 .and. &

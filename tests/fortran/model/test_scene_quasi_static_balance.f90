@@ -25,7 +25,6 @@ program test_scene_quasi_static_balance
   type(multibody_t), pointer :: qs, el
   real(wp), allocatable :: y(:), ydot(:), zr(:, :), r(:, :), yel(:), ydot_el(:)
   real(wp) :: scale, worst
-  logical :: recoverable
   integer :: ib, dof, nb, k, ws(4)
 
   qs_text = file_text('inputs/manchester_v1_tc1.nml')
@@ -50,7 +49,7 @@ program test_scene_quasi_static_balance
   call qs_scene%get_state(y, error); call stop_on(error, 'state')
 
   ! (a) at the right-hand side's solution
-  call qs%rhs(0.0_wp, y, ydot, error, recoverable); call stop_on(error, 'rhs')
+  call qs%rhs(0.0_wp, y, ydot, error); call stop_on(error, 'rhs')
   zr = reshape([(qs%bodies(ib)%q0([DOF_Z, DOF_ROLL]), ib = 1, nb)], [2, nb])
   call qs%quasi_static_balance(0.0_wp, y, zr, r, error); call stop_on(error, 'balance at the solution')
   write (*, '(a, es10.2)') '(a) largest residual at the solve''s solution [m/s^2, rad/s^2]: ', maxval(abs(r(:, ws)))
@@ -81,7 +80,7 @@ program test_scene_quasi_static_balance
     end do
   end do
   yel(2 * el%nfree + 1:) = y(2 * qs%nfree + 1:)
-  call el%rhs(0.0_wp, yel, ydot_el, error, recoverable); call stop_on(error, 'elastic rhs')
+  call el%rhs(0.0_wp, yel, ydot_el, error); call stop_on(error, 'elastic rhs')
   scale = maxval(abs(r(:, ws)))
   worst = 0
   do k = 1, 4

@@ -76,7 +76,6 @@ contains
     real(wp) :: worst, q_sum, q_ws(2), expected, expected_ws(2), m_b, m_w(2), phi_b, phi_w(2), &
                 psi0, bound, dy, kappa
     integer :: ib, j, k, w, n, i_bogie, i_ws(2)
-    logical :: rec
     type(wheelset_contact_t), pointer :: contact
 
     call scene%load_string("&include file = 'tgv_bogie_curve.nml' /" // nl // &
@@ -96,7 +95,7 @@ contains
     ! 1. accelerations at V = 0 (the static problem) of every coordinate not held
     saved = mbs%speed
     mbs%speed = constant_speed(0.0_wp)
-    call mbs%rhs(0.0_wp, y, ydot, error, rec)
+    call mbs%rhs(0.0_wp, y, ydot, error)
     call stop_on(error, 'RHS at the static state')
     worst = 0
     do ib = 1, mbs%body_count()
@@ -165,7 +164,7 @@ contains
     real(wp), allocatable :: y(:), ydot(:)
     real(wp) :: worst, total_mass, contact_z, held_z, balance, bound
     integer :: ib, j, k, n, iw
-    logical :: rec, is_wheelset
+    logical :: is_wheelset
 
     call scene%load_string("&include file = 'manchester_v1_tc1_elastic.nml' /" // nl // &
                            "&simulation start_sigma = 120.0, t_end = 1.0 /" // nl, 'inputs', error)
@@ -178,7 +177,7 @@ contains
     allocate (y(scene%state_size()), ydot(scene%state_size()))
     call scene%get_state(y, error)
     mbs%speed = constant_speed(0.0_wp)
-    call mbs%rhs(0.0_wp, y, ydot, error, rec)
+    call mbs%rhs(0.0_wp, y, ydot, error)
     call stop_on(error, 'RHS at the static state')
     worst = 0
     total_mass = 0
@@ -229,7 +228,6 @@ contains
     real(wp), allocatable :: y(:), y0(:), ydot(:)
     real(wp) :: tension, worst
     integer :: e, ib, j, k, k0
-    logical :: rec
 
     base = "&include file = 'tgv_vehicle_straight.nml' /" // nl // "&simulation t_end = 1.0 /" // nl
     ! equilibrium 'none': the damper must start relaxed
@@ -242,7 +240,7 @@ contains
     mbs => start_none%system()
     allocate (y(mbs%state_size()), ydot(mbs%state_size()))
     call start_none%get_state(y, error)
-    call mbs%rhs(0.0_wp, y, ydot, error, rec)
+    call mbs%rhs(0.0_wp, y, ydot, error)
     call stop_on(error, 'RHS, equilibrium none')
     e = damper_index(mbs)
     tension = -mbs%el_res(e)%force_local(1)
@@ -266,7 +264,7 @@ contains
     call with_damper%get_state(y, error)
     call without%get_state(y0, error)
     mbs%speed = constant_speed(0.0_wp)
-    call mbs%rhs(0.0_wp, y, ydot, error, rec)
+    call mbs%rhs(0.0_wp, y, ydot, error)
     call stop_on(error, 'RHS, equilibrium preload')
     e = damper_index(mbs)
     tension = -mbs%el_res(e)%force_local(1)

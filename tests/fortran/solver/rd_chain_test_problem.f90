@@ -22,15 +22,13 @@ module rd_chain_test_problem
 
 contains
 
-  subroutine chain_rhs(self, t, y, ydot, error, recoverable)
+  subroutine chain_rhs(self, t, y, ydot, error)
     class(chain_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(out) :: ydot(:)
     type(error_t), allocatable, intent(out) :: error
-    logical, intent(out) :: recoverable
     integer :: i
-    recoverable = .false.
     self%calls = self%calls + 1
     do i = 1, m
       ydot(i) = y(m + i)

@@ -3,7 +3,7 @@
 module rd_solver_test_problems
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use rd_kinds, only: wp, pi
-  use rd_error, only: error_t, make_error, RD_ERR_PHYSICS, RD_ERR_RUNTIME
+  use rd_error, only: error_t, make_error, retry_error, RD_ERR_PHYSICS, RD_ERR_RUNTIME
   use rd_ode_system, only: ode_system_t
   implicit none
   private
@@ -67,14 +67,12 @@ module rd_solver_test_problems
 
 contains
 
-  subroutine oscillator_rhs(self, t, y, ydot, error, recoverable)
+  subroutine oscillator_rhs(self, t, y, ydot, error)
     class(oscillator_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(out) :: ydot(:)
     type(error_t), allocatable, intent(out) :: error
-    logical, intent(out) :: recoverable
-    recoverable = .false.
     self%calls = self%calls + 1
     ydot(1) = y(2)
     ydot(2) = -self%omega**2 * y(1)
@@ -95,14 +93,12 @@ contains
     two = 2
   end function two
 
-  subroutine decay_rhs(self, t, y, ydot, error, recoverable)
+  subroutine decay_rhs(self, t, y, ydot, error)
     class(decay_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(out) :: ydot(:)
     type(error_t), allocatable, intent(out) :: error
-    logical, intent(out) :: recoverable
-    recoverable = .false.
     ydot(1) = -self%lambda * y(1)
   end subroutine decay_rhs
 
@@ -111,14 +107,12 @@ contains
     one_decay = 1
   end function one_decay
 
-  subroutine stiff_cosine_rhs(self, t, y, ydot, error, recoverable)
+  subroutine stiff_cosine_rhs(self, t, y, ydot, error)
     class(stiff_cosine_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(out) :: ydot(:)
     type(error_t), allocatable, intent(out) :: error
-    logical, intent(out) :: recoverable
-    recoverable = .false.
     ydot(1) = -self%k * (y(1) - cos(t)) - sin(t)
   end subroutine stiff_cosine_rhs
 
@@ -157,14 +151,12 @@ contains
     y = matmul(v, z)
   end function stiff_pair_exact
 
-  subroutine stiff_pair_rhs(self, t, y, ydot, error, recoverable)
+  subroutine stiff_pair_rhs(self, t, y, ydot, error)
     class(stiff_pair_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(out) :: ydot(:)
     type(error_t), allocatable, intent(out) :: error
-    logical, intent(out) :: recoverable
-    recoverable = .false.
     ydot = matmul(self%matrix(), y)
   end subroutine stiff_pair_rhs
 
@@ -189,14 +181,12 @@ contains
     end select
   end subroutine stiff_pair_jacobian
 
-  subroutine failing_rhs(self, t, y, ydot, error, recoverable)
+  subroutine failing_rhs(self, t, y, ydot, error)
     class(failing_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(out) :: ydot(:)
     type(error_t), allocatable, intent(out) :: error
-    logical, intent(out) :: recoverable
-    recoverable = .false.
     ydot(1) = -y(1)
     select case (self%mode)
     case (FAIL_FATAL)
@@ -205,14 +195,12 @@ contains
     case (FAIL_NAN)
       if (t >= self%t_fail) ydot(1) = ieee_value(1.0_wp, ieee_quiet_nan)
     case (FAIL_RECOVERABLE_ALWAYS)
-      recoverable = .true.
       self%failures = self%failures + 1
-      call make_error(error, RD_ERR_RUNTIME, 'contact search out of range (test message)')
+      call retry_error(error, 'contact search out of range (test message)')
     case (FAIL_RECOVERABLE_FEW)
       if (t >= self%t_fail .and. self%failures < 3) then
-        recoverable = .true.
         self%failures = self%failures + 1
-        call make_error(error, RD_ERR_RUNTIME, 'contact search out of range (test message)')
+        call retry_error(error, 'contact search out of range (test message)')
       end if
     end select
   end subroutine failing_rhs

@@ -25,7 +25,7 @@
 module rd_wheelset_contact
   use rd_kinds, only: wp
   use rd_text, only: int_text, sci_text
-  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_PHYSICS
+  use rd_error, only: error_t, make_error, error_context, retry_error, RD_ERR_INPUT, RD_ERR_PHYSICS
   use rd_rotation, only: cross
   use rd_body_kinematics, only: body_kinematics_t
   use rd_force_provider, only: force_provider_t, body_load_t
@@ -269,8 +269,9 @@ contains
 
   !> The whole pipeline for wheelset i with kinematics `kin` at time t: resultant force
   !> (at the CG) and moment (about the CG) on the wheelset, fixed-frame components.
-  !> Fills results(i). Errors: RD_ERR_PHYSICS on lift-off / derailment, RD_ERR_RUNTIME on a
-  !> non-finite result, both naming time, wheelset and side.
+  !> Fills results(i). Errors: RD_ERR_PHYSICS on lift-off / derailment, a recoverable
+  !> RD_ERR_RUNTIME (rd_error retry_error) on a non-finite result, both naming time,
+  !> wheelset and side.
   !> A wheelset with rail bodies needs `all_kin` (every body's kinematics, indexed by body
   !> number, as add_forces gets them); `wheel_force(:, side)` returns each wheel's contact
   !> force (fixed-frame components), whose opposite acts on that side's rail.
@@ -296,8 +297,8 @@ contains
     end if
     ! a NaN velocity would reach the creep laws' comparisons (FP traps in Debug builds)
     if (.not. (all(finite(kin%v)) .and. all(finite(kin%omega)) .and. all(finite(kin%track%a)))) then
-      call make_error(error, RD_ERR_RUNTIME, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // trim(sci_text(t, 5)) // &
-                      ' s: non-finite wheelset velocity or track frame')
+      call retry_error(error, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // trim(sci_text(t, 5)) // &
+                       ' s: non-finite wheelset velocity or track frame')
       return
     end if
     associate (m => self%models(i), res => self%results(i))
@@ -334,8 +335,8 @@ contains
           v_rail(:, side) = rail%track%a(:, 2) * rail%qdot(2) + rail%track%a(:, 3) * rail%qdot(3)
         end associate
         if (.not. all(finite(v_rail(:, side)))) then
-          call make_error(error, RD_ERR_RUNTIME, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // &
-                          trim(sci_text(t, 5)) // ' s: non-finite ' // side_name(side) // ' rail body velocity')
+          call retry_error(error, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // &
+                           trim(sci_text(t, 5)) // ' s: non-finite ' // side_name(side) // ' rail body velocity')
           return
         end if
       end do
@@ -523,7 +524,7 @@ contains
     type(error_t), allocatable, intent(out) :: error
     integer :: k
     if (.not. (all(finite(fw)) .and. all(finite(mw)) .and. finite(out%y_over_q))) then
-      call make_error(error, RD_ERR_RUNTIME, 'non-finite contact force (NaN or Inf)')
+      call retry_error(error, 'non-finite contact force (NaN or Inf)')
       return
     end if
     if (m%geo%model == CONTACT_MODEL_STRIP .or. m%geo%model == CONTACT_MODEL_TABLE) then

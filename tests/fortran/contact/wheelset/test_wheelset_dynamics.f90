@@ -119,7 +119,6 @@ contains
     real(wp), allocatable :: y(:), k1(:), k2(:), k3(:), k4(:)
     real(wp) :: t
     integer :: n, step, iy
-    logical :: rec
     body%name = 'wheelset'
     body%mass = mass
     body%inertia = reshape([1120.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 112.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1120.0_wp], [3, 3])
@@ -145,10 +144,10 @@ contains
     hist(1) = y(iy)
     t = 0
     do step = 1, size(hist) - 1
-      call mb%rhs(t, y, k1, error, rec)
-      if (.not. allocated(error)) call mb%rhs(t + dt / 2, y + dt / 2 * k1, k2, error, rec)
-      if (.not. allocated(error)) call mb%rhs(t + dt / 2, y + dt / 2 * k2, k3, error, rec)
-      if (.not. allocated(error)) call mb%rhs(t + dt, y + dt * k3, k4, error, rec)
+      call mb%rhs(t, y, k1, error)
+      if (.not. allocated(error)) call mb%rhs(t + dt / 2, y + dt / 2 * k1, k2, error)
+      if (.not. allocated(error)) call mb%rhs(t + dt / 2, y + dt / 2 * k2, k3, error)
+      if (.not. allocated(error)) call mb%rhs(t + dt, y + dt * k3, k4, error)
       if (allocated(error)) error stop error%message
       y = y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
       t = step * dt
