@@ -101,6 +101,7 @@ module rd_multibody
     procedure :: initial_state
     procedure :: rhs
     procedure :: evaluate_kinematics
+    procedure :: element_loads
     procedure :: free_slot
     procedure :: absolute_tolerances
     procedure :: state_layout
@@ -856,14 +857,35 @@ contains
     end do
   end subroutine update_quasi_static_kinematics
 
-  !> Loads on every body at the current kinematics: gravity, force elements (their internal
-  !> states' rates go to ydot), providers and the run-time override.
+  !> Loads on every body at the current kinematics: gravity and force elements
+  !> (element_loads), providers and the run-time override.
   subroutine accumulate_loads(self, t, y, ydot, error)
     class(multibody_t), intent(inout) :: self
     real(wp), intent(in) :: t
     real(wp), intent(in) :: y(:)
     real(wp), intent(inout) :: ydot(:)
     type(error_t), allocatable, intent(out) :: error
+    integer :: i
+    call self%element_loads(t, y, ydot)
+    do i = 1, size(self%providers)
+      call self%providers(i)%p%add_forces(t, self%kin, self%loads, error)
+      if (allocated(error)) then
+        call error_context(error, 'multibody%rhs')
+        return
+      end if
+    end do
+    call self%override%add_forces(t, self%kin, self%loads, error)
+    if (allocated(error)) return
+  end subroutine accumulate_loads
+
+  !> Gravity and the force elements at the current kinematics (evaluate_kinematics): the
+  !> bodies' loads so far, the element results el_res and the elements' internal states'
+  !> rates in ydot. Cannot fail; also what the free lengths are taken from (rd_scene_startup).
+  subroutine element_loads(self, t, y, ydot)
+    class(multibody_t), intent(inout) :: self
+    real(wp), intent(in) :: t
+    real(wp), intent(in) :: y(:)
+    real(wp), intent(inout) :: ydot(:)
     integer :: i, e, k, n, b1, b2
     type(body_kinematics_t) :: kg
     ! gravity (fixed frame, -Z)
@@ -894,16 +916,7 @@ contains
         end if
       end associate
     end do
-    do i = 1, size(self%providers)
-      call self%providers(i)%p%add_forces(t, self%kin, self%loads, error)
-      if (allocated(error)) then
-        call error_context(error, 'multibody%rhs')
-        return
-      end if
-    end do
-    call self%override%add_forces(t, self%kin, self%loads, error)
-    if (allocated(error)) return
-  end subroutine accumulate_loads
+  end subroutine element_loads
 
   function name_of(self, i) result(name)
     class(multibody_t), intent(in) :: self

@@ -17,8 +17,8 @@ module rd_scene
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp, i8
-  use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_HANDLE, RD_ERR_IO, &
-                      RD_ERR_RUNTIME
+  use rd_error, only: error_t, make_error, error_context, run_status, RD_ERR_INPUT, RD_ERR_HANDLE, &
+                      RD_ERR_IO, RD_ERR_RUNTIME
   use rd_deck, only: deck_t, read_deck_file, read_deck_string, deck_string_t
   use rd_file_kind, only: file_kind, FILE_DIRECTORY
   use rd_track_point, only: track_geometry_t, track_point_t
@@ -534,14 +534,14 @@ contains
     if (self%average%samples > 0) call self%average%start(self%outputs%packed())
   end subroutine start_run
 
-  !> Close the results file (if open) with `status = 'failed: <message>'`: the one place
-  !> where a failure is recorded, for the runner and the C API alike. A failure to record
-  !> it is added to the error's message.
+  !> Close the results file (if open) with rd_error's run_status ('failed: <message>'): the
+  !> one place where a failure is recorded, for the runner and the C API alike. A failure
+  !> to record it is added to the error's message.
   subroutine record_failure_in_results(self, error)
     type(scene_t), intent(inout) :: self
-    type(error_t), intent(inout) :: error
+    type(error_t), allocatable, intent(inout) :: error
     type(error_t), allocatable :: close_error
-    call close_output(self, 'failed: ' // error%message, close_error)
+    call close_output(self, run_status(error), close_error)
     if (allocated(close_error)) error%message = error%message // &
       '; the results file could not record this failure: ' // close_error%message
   end subroutine record_failure_in_results
