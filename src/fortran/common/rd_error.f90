@@ -5,14 +5,10 @@
 !> and may prepend their own context with `error_context`, so a failure deep
 !> inside reads like a one-line traceback. Library code never calls `stop`.
 !>
-!> The failure policy, in one place (docs/output.md "Killed and failed runs"): a failure
-!> is an error_t; it is recoverable only when made by `retry_error` (the quasi-static
-!> solve not converging, a NaN or Inf in a force or derivative: `nonfinite_error`), so
-!> that an integrator evaluating a trial step retries with a smaller one and the error
-!> becomes fatal only when the integrator gives up; every other error is fatal at once.
-!> A run that ends on an error records `run_status(error)` in its results file (the
-!> scene, for the runner and the C API alike), and its code is the C API's status and
-!> the runner's exit status (0 completed, 2 failure, 3 physics limit, ...).
+!> The failure policy (docs/output.md "Killed and failed runs"): only `retry_error` and
+!> `nonfinite_error` make an error recoverable (an integrator retries a smaller step; fatal
+!> when it gives up); every other error is fatal. A run ending on an error records
+!> `run_status(error)`; its code is the C API's status and the runner's exit status.
 module rd_error
   use rd_kinds, only: wp
   implicit none

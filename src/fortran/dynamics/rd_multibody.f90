@@ -441,11 +441,10 @@ contains
       call body_equations(self, i, ydot)
     end do
     if (all(ieee_is_finite(ydot))) return
-    ! what is non-finite, first element force or body load first (rd_error's policy:
-    ! recoverable, the integrator retries with a smaller step)
+    ! name what is non-finite (rd_error's policy: recoverable, the integrator retries)
     do i = 1, size(self%elements)
-      call nonfinite_error(error, [self%el_res(i)%force, self%el_res(i)%moment], &
-                           'force of element "' // self%elements(i)%e%name // '"')
+      if (allocated(self%elements(i)%e%name)) call nonfinite_error(error, [self%el_res(i)%force, &
+        self%el_res(i)%moment], 'force of element "' // self%elements(i)%e%name // '"')
       if (allocated(error)) return
     end do
     do i = 1, size(self%bodies)
