@@ -96,6 +96,7 @@ REPO = HERE.parents[1]
 sys.path.insert(0, str(REPO / "python"))
 sys.path.insert(0, str(REPO / "bench"))
 from raildyn import campaign as C  # noqa: E402
+from raildyn.executable import EXIT_OUTCOMES  # noqa: E402
 from raildyn.results import Results, open_results_file  # noqa: E402
 
 #: FASTSIM with the smooth clip (docs/theory_contact_mechanics.md), as the fidelity map's
@@ -499,7 +500,7 @@ def classify(run: Path, scene: Scene) -> Row:
         row.outcome = "physics stop" if documented else "FAILURE"
         row.reason = summarise(msg, physics=True) if documented else f"exit 3 without a documented reason: {summarise(msg)}"
     else:
-        kind = {2: "solver failure", 1: "bad input", 4: "file error", 5: "internal error"}.get(code, f"exit {code}")
+        kind = EXIT_OUTCOMES.get(code, f"exit {code}")
         row.outcome, row.reason = "FAILURE", f"{kind} (exit {code}): {summarise(_last_message(run))}"
     row.reason = strip_paths(row.reason)[:300]
     if row.outcome == "not run":

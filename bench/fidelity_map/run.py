@@ -50,7 +50,7 @@ REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "python"))
 import raildyn  # noqa: E402
 from raildyn import validation as V  # noqa: E402
-from raildyn.validation.runs import EXIT_OUTCOMES  # noqa: E402
+from raildyn.executable import EXIT_OUTCOMES, RESULTS_READABLE  # noqa: E402
 
 #: FASTSIM with the smooth clip (docs/theory_contact_mechanics.md): the acceptance deck's law.
 FASTSIM = "creep_law = 'fastsim', fastsim_saturation_width = 0.2"
@@ -251,7 +251,7 @@ def measure(exe, tmp, scene, level, t_end, tag, env, timeout, ref, manchester, k
         row.outcome = f"time-out after {timeout:g} s wall"
         return row, None
     row.outcome = EXIT_OUTCOMES.get(rc, f"exit {rc}")
-    if rc not in (0, 3):
+    if rc not in RESULTS_READABLE:
         msg = [ln for ln in err.strip().splitlines() if ln.strip()]
         row.notes.append(msg[-1][:160] if msg else "no message")
         return row, None

@@ -42,6 +42,13 @@ def find_raildyn_executable(exe: str | os.PathLike | None = None, given_as: str 
                              f"); build it, set RAILDYN_BUILD_DIR or give {given_as}")
 
 
+#: raildyn run's exit statuses: the C API's status codes (raildyn.h; rd_error's failure
+#: policy). After RESULTS_READABLE ones (completed, physics limit) the results file holds the run.
+EXIT_OUTCOMES = {0: "completed", 1: "bad input", 2: "solver failure", 3: "physics limit", 4: "file error",
+                 5: "internal error"}
+RESULTS_READABLE = (0, 3)
+
+
 def run_deck(exe: str | os.PathLike, deck: str | os.PathLike, results: str | os.PathLike, *, quiet: bool = False,
              cwd: str | os.PathLike | None = None, log=None, timeout: float | None = None,
              started=None) -> subprocess.CompletedProcess:
@@ -49,8 +56,7 @@ def run_deck(exe: str | os.PathLike, deck: str | os.PathLike, results: str | os.
     Its output goes to the open file ``log`` (stdout and stderr interleaved) or is captured
     (the answer's ``stdout`` and ``stderr``); ``started(proc)`` gets the running process (the
     campaigns stop their runs on Ctrl-C). Past ``timeout`` seconds the run is killed and
-    subprocess.TimeoutExpired raised, as subprocess.run does. Exit statuses (README): 0
-    completed, 3 physics limit (both leave readable results), others failed."""
+    subprocess.TimeoutExpired raised, as subprocess.run does. Exit statuses: EXIT_OUTCOMES."""
     cmd = [os.fspath(exe), "run", os.fspath(deck), "-o", os.fspath(results), *(["--quiet"] if quiet else [])]
     with subprocess.Popen(cmd, cwd=cwd, text=True, stdout=log or subprocess.PIPE,
                           stderr=subprocess.STDOUT if log else subprocess.PIPE) as proc:

@@ -29,7 +29,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from .executable import ExecutableNotFound, find_raildyn_executable
+from .executable import RESULTS_READABLE, ExecutableNotFound, find_raildyn_executable
 from .results import Results
 
 __all__ = ["Mode", "mode_from_json", "read_root_locus", "StabilityError", "half_cycle_peaks", "growth_rate",
@@ -257,7 +257,7 @@ def run_probes(deck, variants: Sequence[dict], work: Path, exe=None, backend: st
         if "exit_code" not in status:
             raise StabilityError(f"probe run {run} ({what}) has no status: it did not run"
                                  + (f" ({'; '.join(m for m in messages if m)})" if any(messages) else ""))
-        if status["exit_code"] not in (0, 3):
+        if status["exit_code"] not in RESULTS_READABLE:
             raise StabilityError(f"probe run {run} ({what}): raildyn run exited with {status['exit_code']}: "
                                  f"{status.get('error', '')}")
         paths.append(run / "results.h5")

@@ -17,7 +17,7 @@ from typing import Callable, Iterable
 import numpy as np
 
 from .. import executable
-from ..executable import ExecutableNotFound, find_raildyn_executable
+from ..executable import EXIT_OUTCOMES, RESULTS_READABLE, ExecutableNotFound, find_raildyn_executable
 from ..results import Results
 from .core import INPUTS, REPO, Check, CaseError, CaseResult
 
@@ -87,11 +87,6 @@ def find_executable(exe: str | os.PathLike | None = None) -> Path:
         raise CaseError(str(exc)) from None
 
 
-#: runner exit statuses (README): 3 = physics limit (derailment, lift-off): results readable
-EXIT_OUTCOMES = {0: "completed", 1: "bad input", 2: "solver failure", 3: "physics limit", 4: "file error",
-                 5: "internal error"}
-
-
 @dataclass
 class RunInfo:
     results: Path
@@ -144,7 +139,7 @@ def run_deck(deck: Path, results: Path, exe: str | os.PathLike | None = None, ov
                         "(RAILDYN_VALIDATION_TIMEOUT); the partial results are in "
                         f"{results}") from None
     wall = time.perf_counter() - t0
-    if proc.returncode not in (0, 3):
+    if proc.returncode not in RESULTS_READABLE:
         msg = (proc.stderr.strip() or proc.stdout.strip()).splitlines()
         raise CaseError(f"raildyn run {run_deck_path} exited with {proc.returncode} "
                         f"({EXIT_OUTCOMES.get(proc.returncode, '?')}): {msg[-1] if msg else 'no message'}")
