@@ -11,7 +11,7 @@
 !> Curvatures are signed: convex positive, concave negative (e.g. a wheel throat).
 module rd_hertz
   use rd_kinds, only: wp, pi
-  use rd_error, only: error_t, make_error, RD_ERR_INPUT
+  use rd_error, only: error_t, make_error, finite, RD_ERR_INPUT
   use rd_elliptic_integrals, only: elliptic_ke
   implicit none
   private
@@ -331,16 +331,4 @@ contains
       x = x_new
     end do
   end subroutine solve_kprime
-
-  !> Finite-number test for the hot path. Not ieee_is_finite: gfortran saves and restores
-  !> the FP environment around procedures using ieee_arithmetic (~1 us per call). NaN is
-  !> tested first with /= (quiet), so the ordered comparison never sees a NaN (Debug traps).
-  elemental logical function finite(x)
-    real(wp), intent(in) :: x
-    if (x /= x) then
-      finite = .false.
-    else
-      finite = abs(x) <= huge(x)
-    end if
-  end function finite
 end module rd_hertz

@@ -25,7 +25,7 @@
 module rd_wheelset_contact
   use rd_kinds, only: wp
   use rd_text, only: int_text, sci_text
-  use rd_error, only: error_t, make_error, error_context, retry_error, RD_ERR_INPUT, RD_ERR_PHYSICS
+  use rd_error, only: error_t, make_error, error_context, retry_error, finite, RD_ERR_INPUT, RD_ERR_PHYSICS
   use rd_rotation, only: cross
   use rd_body_kinematics, only: body_kinematics_t
   use rd_force_provider, only: force_provider_t, body_load_t
@@ -562,15 +562,4 @@ contains
       s = 'right'
     end if
   end function side_name
-
-
-  !> NaN/Inf test without ieee_arithmetic in the hot path (see rd_hertz: finite).
-  elemental logical function finite(x)
-    real(wp), intent(in) :: x
-    if (x /= x) then
-      finite = .false.
-    else
-      finite = abs(x) <= huge(x)
-    end if
-  end function finite
 end module rd_wheelset_contact
