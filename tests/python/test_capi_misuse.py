@@ -23,7 +23,7 @@ pytestmark = pytest.mark.capi_misuse
 
 REPO = Path(__file__).resolve().parents[2]
 
-RD_OK, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_IO, RD_ERR_HANDLE = 0, 1, 2, 4, 6
+RD_OK, RD_ERR_INPUT, RD_ERR_RUNTIME, RD_ERR_PHYSICS, RD_ERR_IO, RD_ERR_HANDLE = 0, 1, 2, 3, 4, 6
 
 #: a damped mass on a spring, gravity on: the static preload solve sets the spring's preload
 MASS = """&simulation title = 'mass', t_end = 2.0, speed = 10.0, gravity = 9.81,
@@ -264,6 +264,31 @@ def test_failed_run_recorded_like_the_runner(tmp_path, raildyn_exe):
         assert np.array_equal(api["bodies/mass/position_track"][:],
                               runner["bodies/mass/position_track"][:])
 
+
+
+def test_failed_start_recorded_like_the_runner(tmp_path, raildyn_exe):
+    """A run whose first outputs fail (a wheel 10 mm above its rail at t = 0, beyond the
+    lift-off limit of 5 mm: the output evaluation's error is not dropped) fails its start
+    through the C API and the runner alike: physics limit (status / exit 3), the same
+    message, a results file saying 'failed: <message>' at end time 0 and holding no row."""
+    deck = tmp_path / "lifted.nml"
+    deck.write_text(f"&include file = '{REPO / 'inputs' / 'tgv_wheelset.nml'}' /\n"
+                    "&simulation t_end = 0.01 /\n&output file = 'api.h5' /\n"
+                    "&body name = 'ws1', position(3) = 0.46 /\n")
+    with raildyn.Model.from_file(deck) as m:
+        with pytest.raises(raildyn.RaildynError) as e:
+            m.initialize()
+    failure = e.value
+    assert failure.status == RD_ERR_PHYSICS and "lift-off" in failure.message
+    proc = subprocess.run([str(raildyn_exe), "run", str(deck), "-o", str(tmp_path / "runner.h5")],
+                          capture_output=True, text=True)
+    assert proc.returncode == RD_ERR_PHYSICS
+    assert proc.stderr.strip().splitlines()[-1] == f"raildyn: error: {failure.message}"
+    with h5py.File(tmp_path / "api.h5") as api, h5py.File(tmp_path / "runner.h5") as runner:
+        for f in (api, runner):
+            assert f["meta"].attrs["status"].decode() == f"failed: {failure.message}"
+            assert f["meta"].attrs["end_time"] == 0.0
+            assert len(f["time"]) == 0
 
 
 def test_destroyed_before_t_end_reads_stopped(tmp_path):
