@@ -22,9 +22,8 @@
 !> block-diagonal (m I, H^T J H) because the body frame sits at the CG, so the reduced
 !> system is solved body by body with at most 3x3 eliminations and no allocation.
 module rd_multibody
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp, standard_gravity
-  use rd_error, only: error_t, make_error, error_context, retry_error, nonfinite_error, RD_ERR_INPUT, &
+  use rd_error, only: error_t, make_error, error_context, retry_error, nonfinite_error, finite, RD_ERR_INPUT, &
                       RD_ERR_RUNTIME, RD_ERR_INTERNAL, RD_ERR_PHYSICS
   use rd_text, only: sci_text
   use rd_rotation, only: cross
@@ -440,7 +439,7 @@ contains
     do i = 1, size(self%bodies)
       call body_equations(self, i, ydot)
     end do
-    if (all(ieee_is_finite(ydot))) return
+    if (all(finite(ydot))) return
     ! name what is non-finite (rd_error's policy: recoverable, the integrator retries)
     do i = 1, size(self%elements)
       if (allocated(self%elements(i)%e%name)) call nonfinite_error(error, [self%el_res(i)%force, &

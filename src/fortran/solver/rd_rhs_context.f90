@@ -8,10 +8,9 @@
 !> < 0 fatal; which errors are recoverable: rd_error) and refuses non-finite derivatives
 !> (recoverable), so a NaN never enters the state silently.
 module rd_rhs_context
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_text, only: int_text, sci_text
   use rd_kinds, only: wp, i8
-  use rd_error, only: error_t, error_context, nonfinite_error, retry_error
+  use rd_error, only: error_t, error_context, nonfinite_error, retry_error, finite
   use rd_ode_system, only: ode_system_t
   use rd_coloured_jacobian, only: jacobian_sparsity_t, dq_minimum_increment, dq_increment
   implicit none
@@ -45,7 +44,6 @@ module rd_rhs_context
     !> RHS calls made by coloured Jacobians (SUNDIALS does not see them as its own).
     integer(i8) :: rhs_evals_jacobian = 0
     type(error_t), allocatable :: rhs_error   !< last failure reported by the RHS or Jacobian
-    integer(i8) :: rhs_failures = 0           !< RHS calls that failed (recoverable or not)
     !> Set by an unrecoverable RHS failure; until cleared (next advance / reinit) every
     !> evaluation fails at once. SUNDIALS does not always stop on the first negative
     !> return (CVODE 6.4's fixed-point iteration retries it like a recoverable one, then
@@ -76,15 +74,14 @@ contains
     call self%system%rhs(t, y, ydot, error)
     status = RHS_OK
     if (.not. allocated(error)) then
-      if (all(ieee_is_finite(ydot))) return
+      if (all(finite(ydot))) return
       call nonfinite_error(error, ydot, 'derivative in component ' // &
-                           trim(int_text(findloc(ieee_is_finite(ydot), .false., 1))))
+                           trim(int_text(findloc(finite(ydot), .false., 1))))
     end if
     call error_context(error, 'rhs at t = ' // trim(sci_text(t, 8)) // ' s')
     status = merge(RHS_RECOVERABLE, RHS_FATAL, error%recoverable)
     self%fatal = .not. error%recoverable
     call move_alloc(error, self%rhs_error)
-    self%rhs_failures = self%rhs_failures + 1
   end function evaluate_rhs
 
   !> jac = df/dy at (t, y) through the user's Jacobian procedure.
@@ -111,7 +108,7 @@ contains
       return
     end if
     status = RHS_OK
-    if (all(ieee_is_finite(jac))) return
+    if (all(finite(jac))) return
     call retry_error(self%rhs_error, 'jacobian at t = ' // trim(sci_text(t, 8)) // ' s: non-finite entry (NaN or Inf)')
     status = RHS_RECOVERABLE
   end function evaluate_jacobian
