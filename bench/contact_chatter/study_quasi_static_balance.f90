@@ -57,7 +57,7 @@ program study_quasi_static_balance
   call mbs%rhs(t, y, ydot, error); call stop_on(error)
   zr0 = reshape([(mbs%bodies(i)%q0([DOF_Z, DOF_ROLL]), i = 1, nb)], [2, nb])
   print '(a, f0.6, a, i0)', 'state at t = ', t, ' s, wheelset body ', w
-  print '(a, 4es14.6)', 'y [m], yaw [rad], solved z [m], roll [rad]: ', mbs%kin(w)%q(DOF_Y), mbs%kin(w)%q(DOF_YAW), &
+  print '(a, 4es14.6)', 'y [m], yaw [rad], solved z [m], roll [rad]: ', mbs%scratch%kin(w)%q(DOF_Y), mbs%scratch%kin(w)%q(DOF_YAW), &
     zr0(:, w)
   call mbs%quasi_static_balance(t, y, zr0, r, error); call stop_on(error)
   print '(a, 2es12.4)', 'residual at the solution (z'''', roll''''): ', r(:, w)

@@ -49,6 +49,16 @@ module rd_multibody
     type(element_result_t), allocatable :: elements(:)  !< per force element
   end type multibody_output_t
 
+  !> Per-call scratch of an evaluation (rhs fills it; never read as output: calc_output
+  !> returns what the outputs need): the track frames, every body's kinematics and loads,
+  !> every element's result.
+  type :: multibody_scratch_t
+    type(track_point_t), allocatable :: frames(:)
+    type(body_kinematics_t), allocatable :: kin(:)
+    type(body_load_t), allocatable :: loads(:)
+    type(element_result_t), allocatable :: el_res(:)
+  end type multibody_scratch_t
+
   type :: element_holder_t
     class(force_element_t), allocatable :: e
   end type element_holder_t
@@ -71,11 +81,7 @@ module rd_multibody
     integer :: nel_states = 0
     integer, allocatable :: free_index(:, :)    !< (6, nbodies): slot in q_f, 0 if frozen
     integer, allocatable :: el_state_start(:)   !< first slot of each element's states in x_el
-    ! scratch and last evaluation (filled by rhs)
-    type(track_point_t), allocatable :: frames(:)
-    type(body_kinematics_t), allocatable :: kin(:)
-    type(body_load_t), allocatable :: loads(:)
-    type(element_result_t), allocatable :: el_res(:)
+    type(multibody_scratch_t) :: scratch
     !> Quasi-static coordinates: per body the chord Jacobian d(z'', roll'')/d(z, roll) of
     !> the Newton solve, kept between evaluations (the state moves little between calls)
     real(wp), allocatable :: qs_jacobian(:, :, :)
@@ -172,8 +178,8 @@ contains
     allocate (self%qs_history(2, size(bodies), 2))
     self%qs_history = 0
     self%qs_history_count = 0
-    allocate (self%elements(0), self%providers(0), self%el_state_start(0), self%el_res(0))
-    allocate (self%frames(size(frame_offsets)), self%kin(size(bodies)), self%loads(size(bodies)))
+    allocate (self%elements(0), self%providers(0), self%el_state_start(0), self%scratch%el_res(0))
+    allocate (self%scratch%frames(size(frame_offsets)), self%scratch%kin(size(bodies)), self%scratch%loads(size(bodies)))
     call self%override%init(size(bodies))
   end subroutine init
 
@@ -186,10 +192,7 @@ contains
     if (allocated(self%providers)) deallocate (self%providers)
     if (allocated(self%free_index)) deallocate (self%free_index)
     if (allocated(self%el_state_start)) deallocate (self%el_state_start)
-    if (allocated(self%frames)) deallocate (self%frames)
-    if (allocated(self%kin)) deallocate (self%kin)
-    if (allocated(self%loads)) deallocate (self%loads)
-    if (allocated(self%el_res)) deallocate (self%el_res)
+    self%scratch = multibody_scratch_t()
     if (allocated(self%qs_jacobian)) deallocate (self%qs_jacobian)
     if (allocated(self%qs_jacobian_valid)) deallocate (self%qs_jacobian_valid)
     if (allocated(self%qs_history)) deallocate (self%qs_history)
@@ -223,7 +226,7 @@ contains
     self%el_state_start = [self%el_state_start, self%nel_states + 1]
     self%nel_states = self%nel_states + element%state_count()
     allocate (res(n + 1))
-    call move_alloc(res, self%el_res)
+    call move_alloc(res, self%scratch%el_res)
   end subroutine add_element
 
   !> Register a force provider. The caller owns it; it must outlive the system.
@@ -337,7 +340,7 @@ contains
     ! frames and angles at t = 0, then nu = qdot0 + c(q0, Omega(0))
     call self%evaluate_kinematics(0.0_wp, y)
     do i = 1, size(self%bodies)
-      c = frame_rate_shift(self%kin(i)%q, self%kin(i)%omega_frame)
+      c = frame_rate_shift(self%scratch%kin(i)%q, self%scratch%kin(i)%omega_frame)
       do j = 1, 6
         k = self%free_index(j, i)
         if (k > 0) y(self%nfree + k) = self%bodies(i)%qdot0(j) + c(j)
@@ -350,16 +353,16 @@ contains
         if (n == 0) cycle
         k = 2 * self%nfree + self%el_state_start(e)
         if (el%body1 == 0) then
-          kg = ground_kinematics(self%kin(el%body2))
-          call el%initial_states(kg, self%kin(el%body2), y(k:k + n - 1))
+          kg = ground_kinematics(self%scratch%kin(el%body2))
+          call el%initial_states(kg, self%scratch%kin(el%body2), y(k:k + n - 1))
         else
-          call el%initial_states(self%kin(el%body1), self%kin(el%body2), y(k:k + n - 1))
+          call el%initial_states(self%scratch%kin(el%body1), self%scratch%kin(el%body2), y(k:k + n - 1))
         end if
       end associate
     end do
   end subroutine initial_state
 
-  !> Track frames and body kinematics at time t for state y (stored in self%kin).
+  !> Track frames and body kinematics at time t for state y (stored in self%scratch%kin).
   subroutine evaluate_kinematics(self, t, y)
     class(multibody_t), intent(inout) :: self
     real(wp), intent(in) :: t
@@ -369,8 +372,8 @@ contains
     v = self%speed%speed(t)
     vdot = self%speed%acceleration(t)
     s = self%speed%distance(t)
-    do k = 1, size(self%frames)
-      self%frames(k) = self%track%evaluate(self%sigma0 + self%frame_offset(k) + s)
+    do k = 1, size(self%scratch%frames)
+      self%scratch%frames(k) = self%track%evaluate(self%sigma0 + self%frame_offset(k) + s)
     end do
     do i = 1, size(self%bodies)
       call body_kinematics(self, i, y, v, vdot, s)
@@ -393,7 +396,7 @@ contains
         ! theta = s/r0 + beta (docs/theory.md, spin deviation)
         if (b%is_wheelset) q(DOF_PITCH) = spin_from_deviation(q(DOF_PITCH), s, b%r0)
         ! relative rates from the generalized velocities nu = qdot + c(q, Omega)
-        c = frame_rate_shift(q, v * self%frames(b%frame)%omega)
+        c = frame_rate_shift(q, v * self%scratch%frames(b%frame)%omega)
         qdot = 0
         do j = 1, 6
           k = self%free_index(j, i)
@@ -401,7 +404,7 @@ contains
         end do
         ! the spin slot holds nu_theta - V/r0; a frozen spin rolls (dbeta/dt = 0)
         if (b%is_wheelset) qdot(DOF_PITCH) = spin_from_deviation(qdot(DOF_PITCH), v, b%r0)
-        call compute_body_kinematics(self%kin(i), self%frames(b%frame), v, vdot, q, qdot, b%is_wheelset)
+        call compute_body_kinematics(self%scratch%kin(i), self%scratch%frames(b%frame), v, vdot, q, qdot, b%is_wheelset)
       end associate
   end subroutine body_kinematics
 
@@ -421,7 +424,7 @@ contains
     call self%evaluate_kinematics(t, y)
     ! Z-X-Y angles are singular at 90 deg roll (det H = cos(phi)): stop cleanly before
     do i = 1, size(self%bodies)
-      if (abs(cos(self%kin(i)%q(5))) < 1.0e-3_wp) then
+      if (abs(cos(self%scratch%kin(i)%q(5))) < 1.0e-3_wp) then
         call make_error(error, RD_ERR_RUNTIME, 'multibody%rhs: body "' // name_of(self, i) // &
                         '" reached 90 deg roll (singular Z-X-Y angles)')
         return
@@ -442,12 +445,12 @@ contains
     if (all(finite(ydot))) return
     ! name what is non-finite (rd_error's policy: recoverable, the integrator retries)
     do i = 1, size(self%elements)
-      if (allocated(self%elements(i)%e%name)) call nonfinite_error(error, [self%el_res(i)%force, &
-        self%el_res(i)%moment], 'force of element "' // self%elements(i)%e%name // '"')
+      if (allocated(self%elements(i)%e%name)) call nonfinite_error(error, [self%scratch%el_res(i)%force, &
+        self%scratch%el_res(i)%moment], 'force of element "' // self%elements(i)%e%name // '"')
       if (allocated(error)) return
     end do
     do i = 1, size(self%bodies)
-      call nonfinite_error(error, [self%loads(i)%force, self%loads(i)%moment, self%loads(i)%moment_attach], &
+      call nonfinite_error(error, [self%scratch%loads(i)%force, self%scratch%loads(i)%moment, self%scratch%loads(i)%moment_attach], &
                            'load on body "' // name_of(self, i) // '" (gravity, elements, contact, external loads)')
       if (allocated(error)) return
     end do
@@ -809,7 +812,7 @@ contains
     do i = 1, size(self%bodies)
       if (.not. any(self%bodies(i)%quasi_static)) cycle
       call body_equations(self, i, ydot, quasi_static_free=.true.)
-      r(:, i) = [self%kin(i)%qddot(DOF_Z), self%kin(i)%qddot(DOF_ROLL)]
+      r(:, i) = [self%scratch%kin(i)%qddot(DOF_Z), self%scratch%kin(i)%qddot(DOF_ROLL)]
     end do
   end subroutine quasi_static_residual
 
@@ -866,13 +869,13 @@ contains
     integer :: i
     call self%element_loads(t, y, ydot)
     do i = 1, size(self%providers)
-      call self%providers(i)%p%add_forces(t, self%kin, self%loads, error)
+      call self%providers(i)%p%add_forces(t, self%scratch%kin, self%scratch%loads, error)
       if (allocated(error)) then
         call error_context(error, 'multibody%rhs')
         return
       end if
     end do
-    call self%override%add_forces(t, self%kin, self%loads, error)
+    call self%override%add_forces(t, self%scratch%kin, self%scratch%loads, error)
     if (allocated(error)) return
   end subroutine accumulate_loads
 
@@ -888,29 +891,29 @@ contains
     type(body_kinematics_t) :: kg
     ! gravity (fixed frame, -Z)
     do i = 1, size(self%bodies)
-      self%loads(i)%force = [0.0_wp, 0.0_wp, -self%bodies(i)%mass * self%gravity]
-      self%loads(i)%moment = 0
-      self%loads(i)%moment_attach = 0
+      self%scratch%loads(i)%force = [0.0_wp, 0.0_wp, -self%bodies(i)%mass * self%gravity]
+      self%scratch%loads(i)%moment = 0
+      self%scratch%loads(i)%moment_attach = 0
     end do
     ! force elements: force on body 2 at point2, reaction on body 1 at reaction_point
     do e = 1, size(self%elements)
-      associate (el => self%elements(e)%e, res => self%el_res(e))
+      associate (el => self%elements(e)%e, res => self%scratch%el_res(e))
         b1 = el%body1; b2 = el%body2
         n = el%state_count()
         k = 2 * self%nfree + self%el_state_start(e)
         if (b1 == 0) then
-          kg = ground_kinematics(self%kin(b2))
-          call el%evaluate(t, kg, self%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
+          kg = ground_kinematics(self%scratch%kin(b2))
+          call el%evaluate(t, kg, self%scratch%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
         else
-          call el%evaluate(t, self%kin(b1), self%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
+          call el%evaluate(t, self%scratch%kin(b1), self%scratch%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
         end if
-        self%loads(b2)%force = self%loads(b2)%force + res%force
-        self%loads(b2)%moment_attach = self%loads(b2)%moment_attach &
-                                       + cross(res%point2 - self%kin(b2)%r, res%force) + res%moment
+        self%scratch%loads(b2)%force = self%scratch%loads(b2)%force + res%force
+        self%scratch%loads(b2)%moment_attach = self%scratch%loads(b2)%moment_attach &
+                                       + cross(res%point2 - self%scratch%kin(b2)%r, res%force) + res%moment
         if (b1 > 0) then
-          self%loads(b1)%force = self%loads(b1)%force - res%force
-          self%loads(b1)%moment_attach = self%loads(b1)%moment_attach &
-                                         - cross(res%reaction_point - self%kin(b1)%r, res%force) - res%moment
+          self%scratch%loads(b1)%force = self%scratch%loads(b1)%force - res%force
+          self%scratch%loads(b1)%moment_attach = self%scratch%loads(b1)%moment_attach &
+                                         - cross(res%reaction_point - self%scratch%kin(b1)%r, res%force) - res%moment
         end if
       end associate
     end do
@@ -949,7 +952,7 @@ contains
     if (present(quasi_static_free)) then
       if (quasi_static_free) held = self%bodies(i)%frozen
     end if
-    associate (b => self%bodies(i), kin => self%kin(i), ld => self%loads(i))
+    associate (b => self%bodies(i), kin => self%scratch%kin(i), ld => self%scratch%loads(i))
       a = kin%track%a
       om = kin%omega_frame
       al = kin%alpha_frame
@@ -1073,8 +1076,8 @@ contains
     real(wp) :: ydot(size(y))
     call self%rhs(t, y, ydot, error)
     if (allocated(error)) return
-    out%bodies = self%kin
-    out%elements = self%el_res
+    out%bodies = self%scratch%kin
+    out%elements = self%scratch%el_res
   end subroutine calc_output
 
   !> Run-time load on body ib (force at the CG and moment, fixed frame), replacing the

@@ -104,9 +104,9 @@ contains
       do j = 1, 6
         k = mb%free_index(j, ib)
         if (k == 0) cycle
-        y_level(mb%nfree + k) = mb%kin(ib)%qdot(j)
+        y_level(mb%nfree + k) = mb%scratch%kin(ib)%qdot(j)
         if (j == DOF_PITCH .and. mb%bodies(ib)%is_wheelset) &
-          y_level(mb%nfree + k) = deviation_from_spin(mb%kin(ib)%qdot(j), mb%kin(ib)%speed, mb%bodies(ib)%r0)
+          y_level(mb%nfree + k) = deviation_from_spin(mb%scratch%kin(ib)%qdot(j), mb%scratch%kin(ib)%speed, mb%bodies(ib)%r0)
       end do
     end do
     actual => mb%track

@@ -248,7 +248,7 @@ contains
     call mbs%element_loads(0.0_wp, y, ydot)
     mbs%track => actual
     do e = 1, mbs%element_count()
-      call mbs%elements(e)%e%reset_free_length(mbs%el_res(e)%deflection)
+      call mbs%elements(e)%e%reset_free_length(mbs%scratch%el_res(e)%deflection)
     end do
   end subroutine nominal_lengths_from_initial_configuration
 

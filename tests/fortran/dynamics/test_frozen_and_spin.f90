@@ -86,10 +86,10 @@ contains
     call mb%initial_state(y, error)
     call rk4_integrate(mb, 0.0_wp, 1.0_wp, 1.0e-3_wp, y, ok)
     call mb%rhs(1.0_wp, y, ydot, error)
-    call check(all(mb%kin(2)%q([1, 3, 5]) == body(2)%q0([1, 3, 5])), 'frozen coordinates stay exactly at q0')
-    call check(all(mb%kin(2)%qdot([1, 3, 5]) == 0) .and. &
-               all(mb%kin(2)%qddot([1, 3, 5]) == 0), 'frozen rates and accelerations are zero')
-    call check(all(abs(mb%kin(2)%q([2, 4, 6]) - body(2)%q0([2, 4, 6])) > 1e-3_wp), 'free coordinates of the same body moved')
+    call check(all(mb%scratch%kin(2)%q([1, 3, 5]) == body(2)%q0([1, 3, 5])), 'frozen coordinates stay exactly at q0')
+    call check(all(mb%scratch%kin(2)%qdot([1, 3, 5]) == 0) .and. &
+               all(mb%scratch%kin(2)%qddot([1, 3, 5]) == 0), 'frozen rates and accelerations are zero')
+    call check(all(abs(mb%scratch%kin(2)%q([2, 4, 6]) - body(2)%q0([2, 4, 6])) > 1e-3_wp), 'free coordinates of the same body moved')
   end subroutine frozen_check
 
   !> Run a wheelset body with no forces; returns beta (state) and theta (kinematics).
@@ -124,7 +124,7 @@ contains
     call check(ok, 'integration')
     call integ%destroy()
     call mb%rhs(t_end, y, ydot, error)
-    theta = mb%kin(1)%q(6)
+    theta = mb%scratch%kin(1)%q(6)
     if (frozen_spin) then
       beta = beta0
     else

@@ -92,7 +92,7 @@ program test_static_positions
   mb%speed = constant_speed(0.0_wp)
   call mb%rhs(0.0_wp, y, ydot, error)
   call stop_on(error, 'rhs')
-  tension = -mb%el_res(2)%force_local(1)
+  tension = -mb%scratch%el_res(2)%force_local(1)
   write (buf, '(a, es10.3, a, es10.3, a, es10.3, a)') 'series tension ', tension, ' N, damper rate ', &
     ydot(kd), ' m/s, held y acceleration ', ydot(n + ky), ' m/s^2'
   call check(abs(tension) <= 1.0e-6_wp, 'the series damper carries no static force', detail=trim(buf))

@@ -332,7 +332,7 @@ contains
     call stop_on(error, 'state')
     call mbs%rhs(0.0_wp, y, ydot, error)
     call stop_on(error, 'RHS at the static state')
-    c = [mbs%kin(1)%q(3), mbs%kin(2)%q(2), mbs%kin(2)%q(3), mbs%kin(3)%q(2), mbs%kin(3)%q(3), mbs%kin(1)%q(2)]
+    c = [mbs%scratch%kin(1)%q(3), mbs%scratch%kin(2)%q(2), mbs%scratch%kin(2)%q(3), mbs%scratch%kin(3)%q(2), mbs%scratch%kin(3)%q(3), mbs%scratch%kin(1)%q(2)]
     call check(mbs%free_slot(2, DOF_Y) > 0 .and. mbs%free_slot(2, DOF_Z) > 0 .and. &
                count([(mbs%free_slot(2, i) > 0, i = 1, 6)]) == 2, 'rail body: expected free y and z only')
     if (present(contact)) then

@@ -209,7 +209,7 @@ contains
     ! terms ~ |f_i| + sum_k |J_ik| max(|y_k|, L).
     magnitude = 0
     do k = 1, mbs%body_count()
-      magnitude = max(magnitude, norm2(mbs%kin(k)%r), norm2(mbs%kin(k)%v), norm2(mbs%kin(k)%omega))
+      magnitude = max(magnitude, norm2(mbs%scratch%kin(k)%r), norm2(mbs%scratch%kin(k)%v), norm2(mbs%scratch%kin(k)%omega))
     end do
     do i = 1, n
       term_size(i) = abs(fy(i)) + sum(abs(cd1(i, :)) * max(abs(y), magnitude))

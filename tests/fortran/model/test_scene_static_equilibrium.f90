@@ -195,7 +195,7 @@ contains
       if (is_wheelset) then
         ! the held lateral support: the unbalanced force m y'' along the wheelset's Y_T
         ! (frames at rest: y'' is the acceleration along Y_T), fixed-frame Z component
-        held_z = held_z + mbs%bodies(ib)%mass * ydot(n + mbs%free_slot(ib, DOF_Y)) * mbs%kin(ib)%track%a(3, 2)
+        held_z = held_z + mbs%bodies(ib)%mass * ydot(n + mbs%free_slot(ib, DOF_Y)) * mbs%scratch%kin(ib)%track%a(3, 2)
       end if
     end do
     do iw = 1, size(contact%results)
@@ -243,7 +243,7 @@ contains
     call mbs%rhs(0.0_wp, y, ydot, error)
     call stop_on(error, 'RHS, equilibrium none')
     e = damper_index(mbs)
-    tension = -mbs%el_res(e)%force_local(1)
+    tension = -mbs%scratch%el_res(e)%force_local(1)
     write (*, '(a, es10.3, a)') 'series damper, equilibrium none: initial tension ', tension, ' N'
     call check(abs(tension) <= 1.0e-6_wp, 'series damper: does not start relaxed')
     call start_none%destroy()
@@ -267,7 +267,7 @@ contains
     call mbs%rhs(0.0_wp, y, ydot, error)
     call stop_on(error, 'RHS, equilibrium preload')
     e = damper_index(mbs)
-    tension = -mbs%el_res(e)%force_local(1)
+    tension = -mbs%scratch%el_res(e)%force_local(1)
     write (*, '(a, es10.3, a)') 'series damper, after the static solve: tension ', tension, ' N'
     call check(abs(tension) <= 1.0e-2_wp, 'series damper: carries a static force after the solve')
     worst = 0

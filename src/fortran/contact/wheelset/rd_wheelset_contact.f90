@@ -49,10 +49,30 @@ module rd_wheelset_contact
   !> A contact within this distance of the field-side end of the wheel profile means the
   !> rail has left the tread [m].
   real(wp), parameter :: field_end_margin = 1.0e-3_wp
-  !> Poses kept besides the last one in a wheelset's geometry cache (wheelset_model_t).
+  !> Poses kept besides the last one in a wheelset's geometry cache (wheelset_cache_t).
   integer, parameter :: cache_history = 2
 
-  !> Parameters of one wheelset's contact (fixed after init).
+  !> Scratch of a wheelset's contact: the geometry of the last pose (y, z, roll, yaw) evaluated,
+  !> reused when the next call has bitwise the same pose: a finite-difference Jacobian perturbs
+  !> one state per RHS call, and only 4 of a scene's states move a given wheelset's geometry,
+  !> which is ~75 % of the RHS cost (docs/performance.md). Exact: same input, same result.
+  !> With track irregularities the key also holds the rail offsets (dy, dz per side).
+  type :: wheelset_cache_t
+    logical :: valid = .false.
+    real(wp) :: pose(8) = 0
+    type(wheel_contact_t) :: geo(2)
+    !> The two poses used before it, with their geometry (a pose found here swaps places with
+    !> the last one, which stays pose / geo): the quasi-static solve and the output's
+    !> sub-samples come back to a pose two or three evaluations later. Measured on the
+    !> acceptance deck (docs/performance.md): 11.6 % of the evaluations find their pose in the
+    !> three, 5.0 % in the last one alone. Exact, as the last pose.
+    logical :: history_valid(cache_history) = .false.
+    real(wp) :: history_pose(8, cache_history) = 0
+    type(wheel_contact_t) :: history_geo(2, cache_history)
+    integer :: history_next = 1            !< the history slot the next new pose pushes out
+  end type wheelset_cache_t
+
+  !> Parameters of one wheelset's contact (fixed after init), and its geometry cache.
   type :: wheelset_model_t
     integer :: body = 0
     integer :: rail_body(2) = 0            !< left/right rail body, 0 = rigid rail
@@ -69,23 +89,7 @@ module rd_wheelset_contact
     !> and of the field-side end of the wheel profile [m]
     real(wp) :: s_flange_tip(2) = -huge(1.0_wp)
     real(wp) :: s_field_end(2) = huge(1.0_wp)
-    !> The geometry of the last pose (y, z, roll, yaw) evaluated, reused when the next call
-    !> has bitwise the same pose: a finite-difference Jacobian perturbs one state per RHS
-    !> call, and only 4 of a scene's states move a given wheelset's geometry, which is ~75 %
-    !> of the RHS cost (docs/performance.md). Exact: same input, same result.
-    !> With track irregularities the key also holds the rail offsets (dy, dz per side).
-    logical :: cache_valid = .false.
-    real(wp) :: cache_pose(8) = 0
-    type(wheel_contact_t) :: cache_geo(2)
-    !> The two poses used before it, with their geometry (a pose found here swaps places with
-    !> the last one, which stays cache_pose / cache_geo): the quasi-static solve and the
-    !> output's sub-samples come back to a pose two or three evaluations later. Measured on the
-    !> acceptance deck (docs/performance.md): 11.6 % of the evaluations find their pose in the
-    !> three, 5.0 % in the last one alone. Exact, as the last pose.
-    logical :: history_valid(cache_history) = .false.
-    real(wp) :: history_pose(8, cache_history) = 0
-    type(wheel_contact_t) :: history_geo(2, cache_history)
-    integer :: history_next = 1            !< the history slot the next new pose pushes out
+    type(wheelset_cache_t) :: cache        !< scratch: the geometry of the last poses
   end type wheelset_model_t
 
   type, extends(force_provider_t) :: wheelset_contact_t
@@ -188,8 +192,8 @@ contains
     self%irregularity = irregularity
     if (allocated(self%models)) then
       do i = 1, size(self%models)
-        self%models(i)%cache_valid = .false.
-        self%models(i)%history_valid = .false.
+        self%models(i)%cache%valid = .false.
+        self%models(i)%cache%history_valid = .false.
       end do
     end if
   end subroutine wheelset_contact_set_irregularity
@@ -249,19 +253,14 @@ contains
         call make_error(error, RD_ERR_INPUT, 'wheelset contact: body index beyond the multibody''s bodies')
         return
       end if
-      if (all(self%models(i)%rail_body == 0)) then
-        call self%evaluate(i, t, kin(ib), f, m, error)
-        if (allocated(error)) return
-      else
-        call self%evaluate(i, t, kin(ib), f, m, error, all_kin=kin, wheel_force=fw)
-        if (allocated(error)) return
-        ! actio = reactio: the rail gets minus the wheel's contact force, at its CG (no
-        ! moment: its rotations are frozen, the moment goes into those frozen coordinates)
-        do side = SIDE_LEFT, SIDE_RIGHT
-          rb = self%models(i)%rail_body(side)
-          if (rb > 0) forces(rb)%force = forces(rb)%force - fw(:, side)
-        end do
-      end if
+      call self%evaluate(i, t, kin(ib), f, m, error, all_kin=kin, wheel_force=fw)
+      if (allocated(error)) return
+      ! actio = reactio: a rail body gets minus the wheel's contact force, at its CG (no
+      ! moment: its rotations are frozen, the moment goes into those frozen coordinates)
+      do side = SIDE_LEFT, SIDE_RIGHT
+        rb = self%models(i)%rail_body(side)
+        if (rb > 0) forces(rb)%force = forces(rb)%force - fw(:, side)
+      end do
       forces(ib)%force = forces(ib)%force + f
       forces(ib)%moment = forces(ib)%moment + m
     end do
@@ -342,42 +341,42 @@ contains
       end do
       res%rail_offsets = pose(5:8)
       hist = 0
-      if (.not. (m%cache_valid .and. all(pose == m%cache_pose))) then
+      if (.not. (m%cache%valid .and. all(pose == m%cache%pose))) then
         do k = 1, cache_history
-          if (m%history_valid(k)) then
-            if (all(pose == m%history_pose(:, k))) hist = k
+          if (m%cache%history_valid(k)) then
+            if (all(pose == m%cache%history_pose(:, k))) hist = k
           end if
           if (hist > 0) exit
         end do
       end if
-      if (m%cache_valid .and. all(pose == m%cache_pose)) then
-        geo_res = m%cache_geo
+      if (m%cache%valid .and. all(pose == m%cache%pose)) then
+        geo_res = m%cache%geo
       else if (hist > 0) then
         ! found in the history: it becomes the last pose, the last pose takes its slot
-        geo_res = m%history_geo(:, hist)
-        m%history_geo(:, hist) = m%cache_geo
-        m%history_pose(:, hist) = m%cache_pose
-        m%history_valid(hist) = m%cache_valid
-        m%cache_geo = geo_res
-        m%cache_pose = pose
-        m%cache_valid = .true.
+        geo_res = m%cache%history_geo(:, hist)
+        m%cache%history_geo(:, hist) = m%cache%geo
+        m%cache%history_pose(:, hist) = m%cache%pose
+        m%cache%history_valid(hist) = m%cache%valid
+        m%cache%geo = geo_res
+        m%cache%pose = pose
+        m%cache%valid = .true.
       else
-        if (m%cache_valid) then                ! the last pose goes into the history
-          m%history_geo(:, m%history_next) = m%cache_geo
-          m%history_pose(:, m%history_next) = m%cache_pose
-          m%history_valid(m%history_next) = .true.
-          m%history_next = mod(m%history_next, cache_history) + 1
+        if (m%cache%valid) then                ! the last pose goes into the history
+          m%cache%history_geo(:, m%cache%history_next) = m%cache%geo
+          m%cache%history_pose(:, m%cache%history_next) = m%cache%pose
+          m%cache%history_valid(m%cache%history_next) = .true.
+          m%cache%history_next = mod(m%cache%history_next, cache_history) + 1
         end if
-        m%cache_valid = .false.
+        m%cache%valid = .false.
         call wheelset_contact(m%geo, pose(1), pose(2), pose(3), pose(4), geo_res(1), geo_res(2), error, &
                               rail_offset=reshape(pose(5:8), [2, 2]))
         if (allocated(error)) then
           call error_context(error, 'wheelset contact ' // trim(int_text(i)) // ' at t = ' // trim(sci_text(t, 5)) // ' s')
           return
         end if
-        m%cache_geo = geo_res
-        m%cache_pose = pose
-        m%cache_valid = .true.
+        m%cache%geo = geo_res
+        m%cache%pose = pose
+        m%cache%valid = .true.
       end if
       do side = SIDE_LEFT, SIDE_RIGHT
         call wheel_pipeline(m, side, kin, v_rail(:, side), geo_res(side), res%wheel(side), fw, mw)

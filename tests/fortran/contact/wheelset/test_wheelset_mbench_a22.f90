@@ -269,7 +269,7 @@ contains
     integer :: kk, ilo, ihi
     kin = pose_kinematics(straight, 0.0_wp, v, [0.0_wp, pose_y, zz, pose_psi, rr, 0.0_wp], &
                           [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, pose_spin])
-    associate (gp => ws%models(1)%cache_geo(side)%patch, np => ws%models(1)%cache_geo(side)%n_patches, &
+    associate (gp => ws%models(1)%cache%geo(side)%patch, np => ws%models(1)%cache%geo(side)%n_patches, &
                m => ws%models(1))
       do kk = 1, np
         wgt(kk) = acos(-1.0_wp) * gp(kk)%penetration**3 / (3 * sqrt(0.25_wp * &
