@@ -35,7 +35,7 @@ module rd_cmd_profile_scan
   use rd_profile, only: profile_t
   use rd_profile_source, only: load_wheel_profile, load_rail_profile
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
-  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, init_contact_table
+  use rd_contact_geometry, only: contact_geometry_t, build_strip_contact, build_table_contact
   use rd_contact_table, only: contact_table_options_t
   use rd_contact_patch, only: MAX_PATCHES
   use rd_profile_scan, only: profile_scan_t, run_profile_scan, equivalent_conicity
@@ -177,11 +177,11 @@ contains
       end if
     end if
     if (precant_right < 0) precant_right = pl%rail_precant
-    if (.not. allocated(error)) call init_strip_contact(geo, wprof, rprof, pl, opt, error, &
+    if (.not. allocated(error)) call build_strip_contact(geo, wprof, rprof, pl, opt, error, &
       wheel_profile_right=wprof_right, rail_profile_right=rprof_right, rail_precant_right=precant_right)
     ! --table DIR: the contact table of the pair (built, or read when DIR has it) and the
     ! scan through it (docs/theory_contact_geometry.md section 10)
-    if (.not. allocated(error) .and. len(table_dir) > 0) call init_contact_table(geo, table_options, error, table_dir)
+    if (.not. allocated(error) .and. len(table_dir) > 0) call build_table_contact(geo, table_options, error, table_dir)
     if (.not. allocated(error)) call run_profile_scan(geo, ymax, step, yaw_per_shift, lowering, scan, error)
     if (allocated(error)) then
       write (error_unit, '(a)') 'raildyn profile-scan: ' // error%message

@@ -9,7 +9,7 @@ program bench_contact_geometry
   use rd_profile, only: profile_t
   use rd_profile_analytic, only: s1002_profile, rail_head_profile, RAIL_60E1
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
-  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, init_knife_edge_contact, wheel_contact, SIDE_LEFT
+  use rd_contact_geometry, only: contact_geometry_t, build_strip_contact, build_knife_edge_contact, wheel_contact, SIDE_LEFT
   use rd_knife_edge_contact, only: knife_edge_t
   use rd_contact_patch, only: wheel_contact_t
   use rd_rigid_contact, only: rigid_contact
@@ -39,7 +39,7 @@ program bench_contact_geometry
   write (*, '(a)') '|---|---:|---:|---|---:|---:|---:|'
   do i = 1, size(spacing)
     opt%wheel_spacing = spacing(i); opt%rail_spacing = spacing(i)
-    call init_strip_contact(geo, wpf, rpf, pl, opt, error)
+    call build_strip_contact(geo, wpf, rpf, pl, opt, error)
     if (allocated(error)) error stop error%message
     call one('strip', 0.0_wp, 0.0_wp, 'centred (tread)')
     call one('strip', 7.0e-3_wp, 0.0_wp, '7 mm (flange)')
@@ -47,7 +47,7 @@ program bench_contact_geometry
     call one('strip', 4.5e-3_wp, 0.0_wp, 'two-point (tread + flange root)', two=.true.)
   end do
   knife%cone_angle = 0.05_wp; knife%r0 = 0.46_wp
-  call init_knife_edge_contact(geo, knife, error)
+  call build_knife_edge_contact(geo, knife, error)
   call one('knife edge', 0.0_wp, 0.0_wp, 'centred')
   call one('knife edge', 7.0e-3_wp, 16.8e-3_wp, '7 mm + yaw')
   write (*, '(a)') ''

@@ -20,7 +20,7 @@ program bench_hertz_tables
   use rd_profile, only: profile_t
   use rd_profile_source, only: load_wheel_profile, load_rail_profile
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
-  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, wheel_contact, SIDE_LEFT
+  use rd_contact_geometry, only: contact_geometry_t, build_strip_contact, wheel_contact, SIDE_LEFT
   use rd_contact_table, only: contact_table_t, contact_table_options_t, build_contact_table, table_wheel_contact
   use rd_contact_patch, only: wheel_contact_t
   implicit none
@@ -198,7 +198,7 @@ contains
     if (allocated(error)) error stop error%message
     call load_rail_profile('60e1', rail, error, 2.0e-4_wp)
     if (allocated(error)) error stop error%message
-    call init_strip_contact(geo, wheel, rail, pl, opt, error)
+    call build_strip_contact(geo, wheel, rail, pl, opt, error)
     if (allocated(error)) error stop error%message
     call build_contact_table(geo%wheel, geo%rail, topt, table, error)
     if (allocated(error)) error stop error%message

@@ -18,7 +18,7 @@ module rd_nonlinear_spring
   use rd_element_geometry, only: point_pair_t, point_pair
   implicit none
   private
-  public :: nonlinear_spring_t, force_table_t, make_force_table, table_force
+  public :: nonlinear_spring_t, force_table_t, build_force_table, table_force
 
   !> Force magnitude [N] against penetration beyond the clearance [m].
   type :: force_table_t
@@ -44,7 +44,7 @@ module rd_nonlinear_spring
 contains
 
   !> A table from penetrations e (strictly increasing, e(1) = 0) and forces f.
-  subroutine make_force_table(table, e, f, error)
+  subroutine build_force_table(table, e, f, error)
     type(force_table_t), intent(out) :: table
     real(wp), intent(in) :: e(:), f(:)
     type(error_t), allocatable, intent(out) :: error
@@ -65,7 +65,7 @@ contains
     end if
     table%e = e
     table%f = f
-  end subroutine make_force_table
+  end subroutine build_force_table
 
   !> F(e) for e >= 0: linear interpolation, last slope beyond the end.
   pure real(wp) function table_force(table, e) result(f)

@@ -13,7 +13,7 @@ module rd_scene_vehicle
   use rd_force_element, only: force_element_t
   use rd_linear_spring_damper, only: linear_spring_damper_t
   use rd_torsion_spring_damper, only: torsion_spring_damper_t
-  use rd_nonlinear_spring, only: nonlinear_spring_t, make_force_table
+  use rd_nonlinear_spring, only: nonlinear_spring_t, build_force_table
   use rd_series_spring_damper, only: series_spring_damper_t
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_profile, only: profile_t
@@ -389,7 +389,7 @@ contains
         s%clearance_pos(ia) = clearance
         s%clearance_neg(ia) = clearance
         s%damping(ia) = c(ia)
-        call make_force_table(s%table_pos(ia), e, f, error)
+        call build_force_table(s%table_pos(ia), e, f, error)
         if (allocated(error)) then
           call error_context(error, deck%origin('element', i, 'table_deflection'))
           return

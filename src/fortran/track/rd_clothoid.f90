@@ -32,7 +32,7 @@ module rd_clothoid
   use rd_gauss_legendre, only: gauss_legendre
   implicit none
   private
-  public :: clothoid_t, clothoid_init, clothoid_offset, clothoid_turn
+  public :: clothoid_t, build_clothoid, clothoid_offset, clothoid_turn
   public :: CLOTHOID_ARC, CLOTHOID_FRESNEL, CLOTHOID_QUADRATURE
 
   integer, parameter :: CLOTHOID_ARC = 0, CLOTHOID_FRESNEL = 1, CLOTHOID_QUADRATURE = 2
@@ -55,7 +55,7 @@ module rd_clothoid
 contains
 
   !> Precompute everything that does not depend on u.
-  pure subroutine clothoid_init(cl, k0, rate, length)
+  pure subroutine build_clothoid(cl, k0, rate, length)
     type(clothoid_t), intent(out) :: cl
     real(wp), intent(in) :: k0, rate, length
     real(wp) :: phase
@@ -76,7 +76,7 @@ contains
       phase = 0.5_wp * pi * cl%t0**2
       cl%straddle = cmplx(1.0_wp, 1.0_wp, wp) * cmplx(cos(phase), -sin(phase), wp)
     end if
-  end subroutine clothoid_init
+  end subroutine build_clothoid
 
   !> Heading change from the start, k0 u + c u^2 / 2 [rad].
   elemental function clothoid_turn(cl, u) result(dpsi)

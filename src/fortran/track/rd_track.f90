@@ -28,7 +28,7 @@ module rd_track
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   use rd_track_point, only: track_point_t, track_geometry_t
   use rd_track_frame, only: set_track_frame
-  use rd_clothoid, only: clothoid_t, clothoid_init, clothoid_offset, clothoid_turn
+  use rd_clothoid, only: clothoid_t, build_clothoid, clothoid_offset, clothoid_turn
   implicit none
   private
   public :: track_t, track_settings_t, segment_spec_t, build_track, GRADIENT_UNCHANGED
@@ -141,7 +141,7 @@ contains
         seg%psi0 = psi_prev
         seg%cos_psi0 = cos(psi_prev)
         seg%sin_psi0 = sin(psi_prev)
-        call clothoid_init(seg%plan, k_prev, (k1 - k_prev) / seg%length, seg%length)
+        call build_clothoid(seg%plan, k_prev, (k1 - k_prev) / seg%length, seg%length)
         seg%ramp = merge(RAMP_COSINE, RAMP_LINEAR, trim(specs(i)%cant_ramp) == 'cosine')
         seg%h0 = h_prev
         seg%h1 = h1

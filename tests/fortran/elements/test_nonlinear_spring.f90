@@ -8,7 +8,7 @@ program test_nonlinear_spring
   use rd_track_point, only: track_point_t
   use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics
   use rd_force_element, only: element_result_t
-  use rd_nonlinear_spring, only: nonlinear_spring_t, force_table_t, make_force_table, table_force
+  use rd_nonlinear_spring, only: nonlinear_spring_t, force_table_t, build_force_table, table_force
   use rd_dynamics_test_support, only: canted_circle_t
   use rd_test_support, only: check, test_summary
   implicit none
@@ -19,22 +19,22 @@ program test_nonlinear_spring
   type(track_point_t) :: tp
 
   ! table: 0 -> 0, 5 mm -> 1 kN, 15 mm -> 11 kN (progressive), beyond: slope 1e6 N/m
-  call make_force_table(tab, [0.0_wp, 0.005_wp, 0.015_wp], [0.0_wp, 1000.0_wp, 11000.0_wp], error)
+  call build_force_table(tab, [0.0_wp, 0.005_wp, 0.015_wp], [0.0_wp, 1000.0_wp, 11000.0_wp], error)
   call check(.not. allocated(error), 'table accepted')
   call check(abs(table_force(tab, 0.002_wp) - 400.0_wp) < 1e-9_wp, 'interpolation first segment')
   call check(abs(table_force(tab, 0.010_wp) - 6000.0_wp) < 1e-9_wp, 'interpolation second segment')
   call check(abs(table_force(tab, 0.020_wp) - 16000.0_wp) < 1e-9_wp, 'extrapolation with last slope')
-  call make_force_table(tab, [0.001_wp, 0.005_wp], [0.0_wp, 1000.0_wp], error)
+  call build_force_table(tab, [0.001_wp, 0.005_wp], [0.0_wp, 1000.0_wp], error)
   call check(allocated(error), 'table must start at 0')
-  call make_force_table(tab, [0.0_wp, 0.005_wp, 0.004_wp], [0.0_wp, 1.0_wp, 2.0_wp], error)
+  call build_force_table(tab, [0.0_wp, 0.005_wp, 0.004_wp], [0.0_wp, 1.0_wp, 2.0_wp], error)
   call check(allocated(error), 'table must increase')
 
   bs%body1 = 1; bs%body2 = 2
   bs%clearance_pos = [0.0_wp, 0.02_wp, 0.0_wp]
   bs%clearance_neg = [0.0_wp, 0.03_wp, 0.0_wp]
   bs%damping = [0.0_wp, 500.0_wp, 0.0_wp]
-  call make_force_table(bs%table_pos(2), [0.0_wp, 0.005_wp, 0.015_wp], [0.0_wp, 1000.0_wp, 11000.0_wp], error)
-  call make_force_table(bs%table_neg(2), [0.0_wp, 0.01_wp], [0.0_wp, 500.0_wp], error)
+  call build_force_table(bs%table_pos(2), [0.0_wp, 0.005_wp, 0.015_wp], [0.0_wp, 1000.0_wp, 11000.0_wp], error)
+  call build_force_table(bs%table_neg(2), [0.0_wp, 0.01_wp], [0.0_wp, 500.0_wp], error)
   tp = circle%evaluate(0.0_wp)
 
   call check(abs(lateral(0.015_wp, 0.3_wp)) == 0, 'inside the clearance: no force (even moving)')

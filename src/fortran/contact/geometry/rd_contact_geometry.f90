@@ -27,7 +27,7 @@ module rd_contact_geometry
   implicit none
   private
   public :: contact_geometry_t, CONTACT_MODEL_STRIP, CONTACT_MODEL_KNIFE_EDGE, CONTACT_MODEL_TABLE
-  public :: init_strip_contact, init_knife_edge_contact, init_contact_table, wheelset_contact, wheel_contact
+  public :: build_strip_contact, build_knife_edge_contact, build_table_contact, wheelset_contact, wheel_contact
   public :: SIDE_LEFT, SIDE_RIGHT
 
   integer, parameter :: CONTACT_MODEL_STRIP = 1
@@ -59,7 +59,7 @@ contains
   !> Strip model. The optional right profiles (same profile frame as the left ones) and
   !> right rail precant (tan; default placement%rail_precant) give the right side its own
   !> surfaces; absent, the right side is the mirror image of the left one.
-  subroutine init_strip_contact(geo, wheel_profile, rail_profile, placement, options, error, &
+  subroutine build_strip_contact(geo, wheel_profile, rail_profile, placement, options, error, &
                                 wheel_profile_right, rail_profile_right, rail_precant_right)
     type(contact_geometry_t), intent(out) :: geo
     type(profile_t), intent(in) :: wheel_profile, rail_profile
@@ -74,7 +74,7 @@ contains
     call build_wheel_surface(wheel_profile, placement, options, geo%wheel, error)
     if (.not. allocated(error)) call build_rail_surface(rail_profile, placement, options, geo%rail, error)
     if (allocated(error)) then
-      call error_context(error, 'init_strip_contact')
+      call error_context(error, 'build_strip_contact')
       return
     end if
     call check_overlap(geo%wheel, geo%rail, 'left', error)
@@ -86,7 +86,7 @@ contains
     if (geo%own_wheel_right) then
       call build_wheel_surface(wheel_profile_right, placement_right, options, geo%wheel_right, error)
       if (allocated(error)) then
-        call error_context(error, 'init_strip_contact: right wheel')
+        call error_context(error, 'build_strip_contact: right wheel')
         return
       end if
     end if
@@ -100,7 +100,7 @@ contains
         call build_rail_surface(rail_profile, placement_right, options, geo%rail_right, error)
       end if
       if (allocated(error)) then
-        call error_context(error, 'init_strip_contact: right rail')
+        call error_context(error, 'build_strip_contact: right rail')
         return
       end if
     end if
@@ -111,7 +111,7 @@ contains
     else if (geo%own_rail_right) then
       call check_overlap(geo%wheel, geo%rail_right, 'right', error)
     end if
-  end subroutine init_strip_contact
+  end subroutine build_strip_contact
 
   pure logical function same_points(a, b)
     type(profile_t), intent(in) :: a, b
@@ -127,7 +127,7 @@ contains
     character(len=*), intent(in) :: side_name
     type(error_t), allocatable, intent(out) :: error
     if (wheel%y(wheel%n) < rail%y(1) .or. wheel%y(1) > rail%y(rail%n)) then
-      call make_error(error, RD_ERR_INPUT, 'init_strip_contact: ' // side_name // ' wheel and rail do not ' // &
+      call make_error(error, RD_ERR_INPUT, 'build_strip_contact: ' // side_name // ' wheel and rail do not ' // &
         'overlap laterally; check gauge, back-to-back distance and flange back position')
     end if
   end subroutine check_overlap
@@ -135,14 +135,14 @@ contains
   !> Table model from an initialised strip model: each side's pair tabulated once
   !> (rd_contact_table) or read from the table cache (rd_contact_table_cache); the strip
   !> surfaces stay for the profile-based checks.
-  subroutine init_contact_table(geo, options, error, directory)
+  subroutine build_table_contact(geo, options, error, directory)
     type(contact_geometry_t), intent(inout) :: geo
     type(contact_table_options_t), intent(in) :: options
     type(error_t), allocatable, intent(out) :: error
     !> the cache directory instead of the user cache (raildyn profile-scan --table DIR)
     character(len=*), intent(in), optional :: directory
     if (geo%model /= CONTACT_MODEL_STRIP) then
-      call make_error(error, RD_ERR_INPUT, 'init_contact_table: contact tables need the profile (strip) model')
+      call make_error(error, RD_ERR_INPUT, 'build_table_contact: contact tables need the profile (strip) model')
       return
     end if
     call obtain_contact_table(geo%wheel, geo%rail, options, geo%table, error, directory=directory)
@@ -160,26 +160,26 @@ contains
       return
     end if
     geo%model = CONTACT_MODEL_TABLE
-  end subroutine init_contact_table
+  end subroutine build_table_contact
 
-  subroutine init_knife_edge_contact(geo, knife, error)
+  subroutine build_knife_edge_contact(geo, knife, error)
     type(contact_geometry_t), intent(out) :: geo
     type(knife_edge_t), intent(in) :: knife
     type(error_t), allocatable, intent(out) :: error
     if (.not. (knife%cone_angle >= 0 .and. knife%cone_angle < 0.8_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'init_knife_edge_contact: cone angle must be in [0, 0.8) rad')
+      call make_error(error, RD_ERR_INPUT, 'build_knife_edge_contact: cone angle must be in [0, 0.8) rad')
     else if (.not. (knife%e0 > 0.2_wp .and. knife%e0 < 1.5_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'init_knife_edge_contact: e0 must be in (0.2, 1.5) m')
+      call make_error(error, RD_ERR_INPUT, 'build_knife_edge_contact: e0 must be in (0.2, 1.5) m')
     else if (.not. (knife%r0 > 0.1_wp .and. knife%r0 < 2.0_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'init_knife_edge_contact: r0 must be in (0.1, 2) m')
+      call make_error(error, RD_ERR_INPUT, 'build_knife_edge_contact: r0 must be in (0.1, 2) m')
     else if (.not. (knife%rail_crown_radius > 0)) then
-      call make_error(error, RD_ERR_INPUT, 'init_knife_edge_contact: rail crown radius must be > 0')
+      call make_error(error, RD_ERR_INPUT, 'build_knife_edge_contact: rail crown radius must be > 0')
     end if
     if (allocated(error)) return
     geo%model = CONTACT_MODEL_KNIFE_EDGE
     geo%knife = knife
     geo%placement%nominal_radius = knife%r0
-  end subroutine init_knife_edge_contact
+  end subroutine build_knife_edge_contact
 
   !> One wheel (SIDE_LEFT or SIDE_RIGHT) for the wheelset pose relative to its track frame.
   pure subroutine wheel_contact(geo, side, y, z, phi, psi, res)

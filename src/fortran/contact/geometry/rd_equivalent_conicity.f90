@@ -183,8 +183,8 @@ contains
         ' m): there is no centred position for the wheelset to oscillate about')
       return
     end if
-    call make_side(table, well%zone(2), .false., well%side(2))
-    call make_side(table, well%zone(1), .true., well%side(1))
+    call build_side(table, well%zone(2), .false., well%side(2))
+    call build_side(table, well%zone(1), .true., well%side(1))
     well%v_edge = min(max_potential(well%side(1)), max_potential(well%side(2)))
   contains
     subroutine consider(lo, hi)
@@ -200,7 +200,7 @@ contains
 
   !> One side of the well from `edge` outwards: rows beyond `edge`, with `edge` itself as the
   !> first row (Delta r interpolated there); mirrored for the left side.
-  subroutine make_side(table, edge, mirror, side)
+  subroutine build_side(table, edge, mirror, side)
     type(delta_r_table_t), intent(in) :: table
     real(wp), intent(in) :: edge
     logical, intent(in) :: mirror
@@ -228,7 +228,7 @@ contains
     do k = 2, m
       side%v(k) = side%v(k - 1) + 0.5_wp * (side%y(k) - side%y(k - 1)) * (side%dr(k) + side%dr(k - 1))
     end do
-  end subroutine make_side
+  end subroutine build_side
 
   pure real(wp) function interpolate(y, d, x) result(v)
     real(wp), intent(in) :: y(:), d(:), x

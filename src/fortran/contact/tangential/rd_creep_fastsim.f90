@@ -31,7 +31,7 @@ module rd_creep_fastsim
   use rd_kalker_coefficients, only: kalker_coefficients
   implicit none
   private
-  public :: creep_fastsim_t, creep_fastsim_create
+  public :: creep_fastsim_t, creep_fastsim_build
 
   integer, parameter, public :: BOUND_PARABOLIC = 1, BOUND_ELLIPTIC = 2
 
@@ -47,7 +47,7 @@ module rd_creep_fastsim
 
 contains
 
-  subroutine creep_fastsim_create(options, law, error)
+  subroutine creep_fastsim_build(options, law, error)
     type(creep_law_options_t), intent(in) :: options
     class(creep_law_t), allocatable, intent(out) :: law
     type(error_t), allocatable, intent(out) :: error
@@ -73,7 +73,7 @@ contains
       return
     end select
     allocate (law, source=fastsim)
-  end subroutine creep_fastsim_create
+  end subroutine creep_fastsim_build
 
   pure subroutine fastsim_compute(self, patch, creep, force)
     class(creep_fastsim_t), intent(in) :: self

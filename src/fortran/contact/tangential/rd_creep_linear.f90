@@ -14,7 +14,7 @@ module rd_creep_linear
   use rd_kalker_coefficients, only: kalker_coefficients
   implicit none
   private
-  public :: creep_linear_t, creep_linear_create, linear_creep_forces, shen_hedrick_elkins_factor
+  public :: creep_linear_t, creep_linear_build, linear_creep_forces, shen_hedrick_elkins_factor
 
   integer, parameter, public :: SATURATION_NONE = 0, SATURATION_SHE = 1
 
@@ -27,7 +27,7 @@ module rd_creep_linear
 
 contains
 
-  subroutine creep_linear_create(options, law, error)
+  subroutine creep_linear_build(options, law, error)
     type(creep_law_options_t), intent(in) :: options
     class(creep_law_t), allocatable, intent(out) :: law
     type(error_t), allocatable, intent(out) :: error
@@ -41,7 +41,7 @@ contains
       return
     end select
     allocate (law, source=linear)
-  end subroutine creep_linear_create
+  end subroutine creep_linear_build
 
   pure subroutine linear_compute(self, patch, creep, force)
     class(creep_linear_t), intent(in) :: self

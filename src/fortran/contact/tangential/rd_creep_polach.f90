@@ -28,7 +28,7 @@ module rd_creep_polach
   use rd_kalker_coefficients, only: kalker_coefficients
   implicit none
   private
-  public :: creep_polach_t, creep_polach_create
+  public :: creep_polach_t, creep_polach_build
 
   type, extends(creep_law_t) :: creep_polach_t
     real(wp) :: k_a = 1.0_wp              !< reduction of the slope in the adhesion area
@@ -42,7 +42,7 @@ module rd_creep_polach
 
 contains
 
-  subroutine creep_polach_create(options, law, error)
+  subroutine creep_polach_build(options, law, error)
     type(creep_law_options_t), intent(in) :: options
     class(creep_law_t), allocatable, intent(out) :: law
     type(error_t), allocatable, intent(out) :: error
@@ -62,7 +62,7 @@ contains
     polach%friction_ratio = options%polach_friction_ratio
     polach%friction_decay = options%polach_friction_decay
     allocate (law, source=polach)
-  end subroutine creep_polach_create
+  end subroutine creep_polach_build
 
   pure subroutine polach_compute(self, patch, creep, force)
     class(creep_polach_t), intent(in) :: self

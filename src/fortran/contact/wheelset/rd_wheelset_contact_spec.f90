@@ -11,8 +11,8 @@ module rd_wheelset_contact_spec
   use rd_profile_source, only: load_wheel_profile, load_rail_profile
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
   use rd_knife_edge_contact, only: knife_edge_t
-  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, init_knife_edge_contact, &
-                                 init_contact_table, SIDE_LEFT, SIDE_RIGHT
+  use rd_contact_geometry, only: contact_geometry_t, build_strip_contact, build_knife_edge_contact, &
+                                 build_table_contact, SIDE_LEFT, SIDE_RIGHT
   use rd_contact_table, only: contact_table_options_t
   use rd_hertz, only: hertz_params_t, hertz_init
   use rd_creep_law, only: creep_law_t, creep_law_options_t
@@ -183,7 +183,7 @@ contains
       knife%r0 = spec%nominal_radius
       knife%flange_clearance = spec%knife_flange_clearance
       knife%rail_crown_radius = spec%knife_rail_crown_radius
-      call init_knife_edge_contact(geo, knife, error)
+      call build_knife_edge_contact(geo, knife, error)
     else
       call load_contact_profiles(spec, wheel, rail, error)
       if (allocated(error)) return
@@ -196,7 +196,7 @@ contains
       placement%nominal_radius = spec%nominal_radius
       precant_right = spec%rail_precant
       if (spec%rail_precant_right >= 0) precant_right = spec%rail_precant_right
-      ! right profiles only when named; init_strip_contact shares surfaces equal to the left ones
+      ! right profiles only when named; build_strip_contact shares surfaces equal to the left ones
       if (allocated(spec%wheel_profile_right)) then
         call load_wheel_profile(spec%wheel_profile_right, wheel_right, error, &
                                 min(analytic_spacing, spec%surface%wheel_spacing))
@@ -212,19 +212,19 @@ contains
         return
       end if
       if (allocated(spec%wheel_profile_right) .and. allocated(spec%rail_profile_right)) then
-        call init_strip_contact(geo, wheel, rail, placement, spec%surface, error, wheel_profile_right=wheel_right, &
+        call build_strip_contact(geo, wheel, rail, placement, spec%surface, error, wheel_profile_right=wheel_right, &
                                 rail_profile_right=rail_right, rail_precant_right=precant_right)
       else if (allocated(spec%wheel_profile_right)) then
-        call init_strip_contact(geo, wheel, rail, placement, spec%surface, error, wheel_profile_right=wheel_right, &
+        call build_strip_contact(geo, wheel, rail, placement, spec%surface, error, wheel_profile_right=wheel_right, &
                                 rail_precant_right=precant_right)
       else if (allocated(spec%rail_profile_right)) then
-        call init_strip_contact(geo, wheel, rail, placement, spec%surface, error, rail_profile_right=rail_right, &
+        call build_strip_contact(geo, wheel, rail, placement, spec%surface, error, rail_profile_right=rail_right, &
                                 rail_precant_right=precant_right)
       else
-        call init_strip_contact(geo, wheel, rail, placement, spec%surface, error, rail_precant_right=precant_right)
+        call build_strip_contact(geo, wheel, rail, placement, spec%surface, error, rail_precant_right=precant_right)
       end if
       ! the provider: online strips, or tables of them (one line, the rest is shared)
-      if (.not. allocated(error) .and. trim(spec%contact_geometry) == 'table') call init_contact_table(geo, spec%table, error)
+      if (.not. allocated(error) .and. trim(spec%contact_geometry) == 'table') call build_table_contact(geo, spec%table, error)
     end if
     if (allocated(error)) call error_context(error, 'build_contact_geometry')
   end subroutine build_contact_geometry

@@ -16,7 +16,7 @@ program test_contact_table
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL
   use rd_profile_io, only: read_profile_file
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
-  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, init_contact_table, wheel_contact, &
+  use rd_contact_geometry, only: contact_geometry_t, build_strip_contact, build_table_contact, wheel_contact, &
     SIDE_LEFT, SIDE_RIGHT
   use rd_contact_table, only: contact_table_options_t, contact_table_t
   use rd_contact_table_cache, only: obtain_contact_table
@@ -59,11 +59,11 @@ program test_contact_table
   if (allocated(error)) error stop error%message
   pl%rail_precant = 0.025_wp
   pl%inclination = 0.025_wp
-  call init_strip_contact(strip, wprof, rprof, pl, opt, error)
+  call build_strip_contact(strip, wprof, rprof, pl, opt, error)
   if (allocated(error)) error stop error%message
   table = strip
   call system_clock(c0, rate)
-  call init_contact_table(table, topt, error)
+  call build_table_contact(table, topt, error)
   call system_clock(c1)
   if (allocated(error)) error stop error%message
   build_s = real(c1 - c0, wp) / rate
@@ -102,7 +102,7 @@ contains
                'cache: the table read back equals the one built')
     pl2 = pl
     pl2%inclination = 0.05_wp
-    call init_strip_contact(other, wprof, rprof, pl2, opt, error)
+    call build_strip_contact(other, wprof, rprof, pl2, opt, error)
     if (allocated(error)) error stop error%message
     call obtain_contact_table(other%wheel, other%rail, topt, t2, error, from_cache=hit, path=file2)
     if (allocated(error)) error stop error%message

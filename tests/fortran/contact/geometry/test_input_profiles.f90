@@ -8,7 +8,7 @@ program test_input_profiles
   use rd_profile_io, only: read_profile_file
   use rd_profile_analytic, only: s1002_radius_increase_mm, s1002_profile, rail_head_profile, RAIL_60E1, RAIL_54E1
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
-  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact
+  use rd_contact_geometry, only: contact_geometry_t, build_strip_contact
   use rd_rigid_contact, only: rigid_contact
   use rd_test_support, only: check, test_summary
   implicit none
@@ -53,8 +53,8 @@ program test_input_profiles
   ! fine resampling: both rails are resampled from different first points, so they differ
   ! by the polygon sagitta h^2/(8R) (R13 corner: 0.4 um at 0.2 mm, 0.02 um at 0.05 mm)
   opt%rail_spacing = 5.0e-5_wp; opt%wheel_spacing = 5.0e-5_wp
-  call init_strip_contact(g1, w, ra, pl, opt, error)
-  call init_strip_contact(g2, w, r, pl2, opt, error)
+  call build_strip_contact(g1, w, ra, pl, opt, error)
+  call build_strip_contact(g2, w, r, pl2, opt, error)
   if (allocated(error)) error stop error%message
   dmax = 0
   do i = -2, 6

@@ -5,7 +5,7 @@ program test_knife_edge
   use rd_kinds, only: wp, pi
   use rd_error, only: error_t
   use rd_knife_edge_contact, only: knife_edge_t
-  use rd_contact_geometry, only: contact_geometry_t, init_knife_edge_contact, wheelset_contact
+  use rd_contact_geometry, only: contact_geometry_t, build_knife_edge_contact, wheelset_contact
   use rd_contact_patch, only: wheel_contact_t, PATCH_TREAD, PATCH_FLANGE_SPRING
   use rd_rigid_contact, only: rigid_contact
   use rd_test_support, only: check, fail, test_summary
@@ -19,7 +19,7 @@ program test_knife_edge
   integer :: i, j, m
 
   k%cone_angle = 0.1_wp; k%e0 = 0.75_wp; k%r0 = 0.45_wp      ! thesis table 5.7
-  call init_knife_edge_contact(geo, k, error)
+  call build_knife_edge_contact(geo, k, error)
   if (allocated(error)) error stop error%message
   g = k%cone_angle; e0 = k%e0; r0 = k%r0; tg = tan(g)
   ys = [-6e-3_wp, -2e-3_wp, 0.0_wp, 1.5e-3_wp, 5e-3_wp]
@@ -87,7 +87,7 @@ program test_knife_edge
 
   ! flange stop beyond the clearance
   k%flange_clearance = 6.0e-3_wp
-  call init_knife_edge_contact(geo, k, error)
+  call build_knife_edge_contact(geo, k, error)
   call wheelset_contact(geo, 7.0e-3_wp, 0.4490_wp, 0.0_wp, 0.0_wp, l, r, error)
   call check(l%n_patches == 2 .and. r%n_patches == 1, 'flange stop: a second patch on the left wheel only')
   if (l%n_patches == 2) then

@@ -17,7 +17,7 @@ program test_mbench_a22_geometry
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL
   use rd_profile_io, only: read_profile_file
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
-  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact
+  use rd_contact_geometry, only: contact_geometry_t, build_strip_contact
   use rd_contact_patch, only: wheel_contact_t, PATCH_TREAD
   use rd_rigid_contact, only: rigid_contact
   use rd_strip_contact, only: strip_wheel_contact
@@ -44,7 +44,7 @@ program test_mbench_a22_geometry
   if (allocated(error)) error stop 'cannot read rail: ' // error%message
   pl%rail_precant = 0.025_wp      ! the v3 rail is already canted 1:40
   pl%inclination = 0.025_wp
-  call init_strip_contact(geo, wp_prof, rp_prof, pl, opt, error)
+  call build_strip_contact(geo, wp_prof, rp_prof, pl, opt, error)
   if (allocated(error)) error stop error%message
 
   open (newunit=unit, file=reference_path('mbench_a22/reference.csv'), status='old', action='read')

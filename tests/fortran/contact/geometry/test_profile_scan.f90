@@ -5,7 +5,7 @@ program test_profile_scan
   use rd_kinds, only: wp
   use rd_error, only: error_t
   use rd_knife_edge_contact, only: knife_edge_t
-  use rd_contact_geometry, only: contact_geometry_t, init_knife_edge_contact, init_strip_contact
+  use rd_contact_geometry, only: contact_geometry_t, build_knife_edge_contact, build_strip_contact
   use rd_profile, only: profile_t
   use rd_profile_analytic, only: s1002_profile, rail_head_profile, RAIL_60E1
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
@@ -27,7 +27,7 @@ program test_profile_scan
   character(len=:), allocatable :: csv
 
   k%cone_angle = 0.05_wp; k%e0 = 0.75_wp; k%r0 = 0.46_wp
-  call init_knife_edge_contact(geo, k, error)
+  call build_knife_edge_contact(geo, k, error)
   call run_profile_scan(geo, 0.008_wp, 0.0005_wp, 0.0_wp, 5.0e-6_wp, scan, error)
   if (allocated(error)) error stop error%message
   ! Oracle: rigid contact of eqs. 5.2-5.7 solved here for roll phi (both approaches zero,
@@ -49,7 +49,7 @@ program test_profile_scan
 
   call s1002_profile(wpf, 1.0e-4_wp, error)
   call rail_head_profile(RAIL_60E1, rpf, 1.0e-4_wp, error)
-  call init_strip_contact(geo, wpf, rpf, pl, opt, error)
+  call build_strip_contact(geo, wpf, rpf, pl, opt, error)
   call run_profile_scan(geo, 0.006_wp, 0.001_wp, 0.0_wp, 5.0e-6_wp, scan, error)
   if (allocated(error)) error stop error%message
   asym = 0

@@ -20,7 +20,7 @@ program test_side_profiles
   use rd_profile, only: profile_t
   use rd_profile_analytic, only: s1002_profile, rail_head_profile, RAIL_60E1, RAIL_54E1
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
-  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, wheelset_contact, wheel_contact, &
+  use rd_contact_geometry, only: contact_geometry_t, build_strip_contact, wheelset_contact, wheel_contact, &
                                  SIDE_LEFT, SIDE_RIGHT
   use rd_contact_patch, only: wheel_contact_t, mirror_wheel_contact
   use rd_rigid_contact, only: rigid_contact
@@ -53,7 +53,7 @@ program test_side_profiles
   wsdr = ws; wsdr%z = ws%z + dr; wsdr%source = 's1002 + 0.5 mm'
   r60s = r60; r60s%y = r60%y + dshift; r60s%z = r60%z + hshift; r60s%source = '60e1 translated'
 
-  call init_strip_contact(geo_t, ws, r60, pl, opt, error)                    ! today's model
+  call build_strip_contact(geo_t, ws, r60, pl, opt, error)                    ! today's model
   if (allocated(error)) error stop error%message
   ys = [-6.0e-3_wp, -3.0e-3_wp, 0.0_wp, 2.0e-3_wp, 5.0e-3_wp]
   yaws = [0.0_wp, 2.0e-3_wp]
@@ -70,7 +70,7 @@ program test_side_profiles
   end do
 
   ! ---- (a) same profiles given explicitly on both sides
-  call init_strip_contact(geo_e, ws, r60, pl, opt, error, wheel_profile_right=ws, rail_profile_right=r60, &
+  call build_strip_contact(geo_e, ws, r60, pl, opt, error, wheel_profile_right=ws, rail_profile_right=r60, &
                           rail_precant_right=pl%rail_precant)
   if (allocated(error)) error stop error%message
   call check(.not. (geo_e%own_wheel_right .or. geo_e%own_rail_right) .and. .not. allocated(geo_e%wheel_right%y) &
@@ -87,9 +87,9 @@ program test_side_profiles
 
   ! own surfaces: left S1002+0.5mm / 54E1, right S1002 / 60E1; each side bit for bit equal to
   ! the single-profile model of its own profiles
-  call init_strip_contact(geo_a, wsdr, r54, pl, opt, error, wheel_profile_right=ws, rail_profile_right=r60)
+  call build_strip_contact(geo_a, wsdr, r54, pl, opt, error, wheel_profile_right=ws, rail_profile_right=r60)
   if (allocated(error)) error stop error%message
-  call init_strip_contact(geo_l, wsdr, r54, pl, opt, error)
+  call build_strip_contact(geo_l, wsdr, r54, pl, opt, error)
   if (allocated(error)) error stop error%message
   call check(geo_a%own_wheel_right .and. geo_a%own_rail_right, '(a) different right profiles get own surfaces')
   nbad = 0; nposes = 0
@@ -106,7 +106,7 @@ program test_side_profiles
 
   ! ---- (b) right wheel radius + dr = today's right wheel with the wheelset moved by
   ! -dr along its own z axis, (y, z) -> (y + dr sin(phi), z - dr cos(phi)), at zero yaw
-  call init_strip_contact(geo_w, ws, r60, pl, opt, error, wheel_profile_right=wsdr)
+  call build_strip_contact(geo_w, ws, r60, pl, opt, error, wheel_profile_right=wsdr)
   if (allocated(error)) error stop error%message
   call check(geo_w%own_wheel_right .and. .not. geo_w%own_rail_right, '(b) only the right wheel has its own surface')
   dmax = 0; nbad = 0
@@ -147,7 +147,7 @@ program test_side_profiles
   call check(abs(phi / phi_ref - 1) < 0.03_wp, '(b) rigid roll = -dr/(2 e0) within 3 % (first order, contact angles)')
 
   ! right rail translated by (3 mm, -2 mm) in its profile frame: same contacts, u shifted
-  call init_strip_contact(geo_s, ws, r60, pl, opt, error, rail_profile_right=r60s)
+  call build_strip_contact(geo_s, ws, r60, pl, opt, error, rail_profile_right=r60s)
   if (allocated(error)) error stop error%message
   dmax = 0; nbad = 0
   do i = 1, size(ys)
@@ -171,7 +171,7 @@ program test_side_profiles
   call check(nbad == 0 .and. dmax < 1.0e-10_wp, '(b) a translated rail file changes nothing but u (gauge-point placement)')
 
   ! ---- (c) mirror: left/right profiles swapped and the pose mirrored
-  call init_strip_contact(geo_m, ws, r60, pl, opt, error, wheel_profile_right=wsdr, rail_profile_right=r54)
+  call build_strip_contact(geo_m, ws, r60, pl, opt, error, wheel_profile_right=wsdr, rail_profile_right=r54)
   if (allocated(error)) error stop error%message
   nbad = 0
   do k = 1, npose
@@ -287,7 +287,7 @@ contains
     call circle_rail_profile(rl, circ_l)
     call circle_rail_profile(rr, circ_r)
     pl%inclination = 0
-    call init_strip_contact(geo, cone, circ_l, pl, opt, error, rail_profile_right=circ_r)
+    call build_strip_contact(geo, cone, circ_l, pl, opt, error, rail_profile_right=circ_r)
     if (allocated(error)) error stop error%message
     call run_profile_scan(geo, 0.002_wp, 0.001_wp, 0.0_wp, 5.0e-6_wp, scan, error)
     if (allocated(error)) error stop error%message

@@ -8,7 +8,7 @@ program test_strip_symmetry
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL
   use rd_profile_analytic, only: s1002_profile, rail_head_profile, RAIL_60E1
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
-  use rd_contact_geometry, only: contact_geometry_t, init_strip_contact, wheelset_contact
+  use rd_contact_geometry, only: contact_geometry_t, build_strip_contact, wheelset_contact
   use rd_contact_patch, only: wheel_contact_t
   use rd_rigid_contact, only: rigid_contact
   use geometry_test_support, only: cone_wheel_profile, circle_rail_profile, circle_rail_centre_y
@@ -25,7 +25,7 @@ program test_strip_symmetry
 
   call s1002_profile(wpf, 1.0e-4_wp, error)
   call rail_head_profile(RAIL_60E1, rpf, 1.0e-4_wp, error)
-  call init_strip_contact(geo, wpf, rpf, pl, opt, error)
+  call build_strip_contact(geo, wpf, rpf, pl, opt, error)
   if (allocated(error)) error stop error%message
 
   ! centred: exact mirror symmetry
@@ -86,7 +86,7 @@ program test_strip_symmetry
   call cone_wheel_profile(lam, wpf)
   call circle_rail_profile(rr, rpf)
   pl%inclination = 0
-  call init_strip_contact(geo, wpf, rpf, pl, opt, error)
+  call build_strip_contact(geo, wpf, rpf, pl, opt, error)
   if (allocated(error)) error stop error%message
   call rigid_contact(geo, 0.0_wp, 0.0_wp, z, phi, error, l, r, lowering=1.0e-6_wp)
   ! rail centre: gauge point 14 mm below the top at u = -sqrt(R^2 - (R - 0.014)^2)
