@@ -66,12 +66,14 @@ Jacobian's).
 
     python3 bench/extremes/run.py [--build DIR] [--jobs N] [--backend local|slurm]
         [--slurm-option OPT] [--quick] [--only VEHICLE:SCENE:LEVEL ...] [--timeout S]
-        [--work DIR] [--no-write]
+        [--work DIR] [--no-write] [--no-run] [--keep-published] [--when TEXT]
 
 Writes bench/extremes/scenes/*.nml (the scene decks, tracked), runs the matrix under
 <build>/extremes (one campaign per vehicle and scene; a rerun reuses completed runs whose
 inputs and runner did not change), prints the table and writes it into docs/performance.md
-(section extremes) unless --no-write or --quick or --only.
+(section extremes) unless --no-write or --quick or --only. --keep-published completes a partial
+rerun (--only, or a work folder with rows not run) with the published rows it did not rerun,
+marked '(earlier run)', and writes the whole table (with --only too).
 """
 from __future__ import annotations
 
@@ -371,6 +373,8 @@ class Row:
     wall: float = float("nan")
     t_reached: float = float("nan")
     expected: bool = True      #: the outcome is what the scene's physics asks for
+    #: taken from the published table (--keep-published), not classified from a run folder
+    kept: bool = False
 
 
 def _nonfinite(path: Path) -> str:
@@ -602,6 +606,57 @@ def fmt(x, spec):
     return "" if x is None or (isinstance(x, float) and not np.isfinite(x)) else format(x, spec)
 
 
+#: marks a kept row's outcome in the published table
+KEPT_MARK = " (earlier run)"
+
+
+def published_rows(text: str) -> dict:
+    """The rows of a published table (render's output, e.g. the extremes section of
+    docs/performance.md): {(vehicle key, scene key, level): Row} with kept = True, for
+    --keep-published. Rows not run or n/a are left out (they are nothing to keep)."""
+    titles = {v.title: v for v in vehicles()}
+    out, v, scenes = {}, None, {}
+    for line in text.splitlines():
+        if line.startswith("#### "):
+            v = titles.get(line[5:].strip())
+            scenes = {s.title: s for s in scenes_for(v)} if v else {}
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if v is None or len(cells) != 9 or cells[0] not in scenes:
+            continue
+        outcome = cells[2].replace(KEPT_MARK, "")
+        if outcome in ("not run", "n/a"):
+            continue
+        rhs = [int(x) for x in cells[5].split("+")] if cells[5] else [0, 0]
+        row = Row(v.key, scenes[cells[0]].key, cells[1], outcome=outcome, reason=cells[8],
+                  steps=int(cells[4]) if cells[4] else 0, rhs=rhs[0], rhs_jac=rhs[1],
+                  cpu=float(cells[6]) if cells[6] else float("nan"),
+                  t_reached=float(cells[7]) if cells[7] else float("nan"), expected=cells[3] == "yes", kept=True)
+        out[(row.vehicle, row.scene, row.level)] = row
+    return out
+
+
+def keep_published(rows: list, published: dict) -> list:
+    """The whole matrix: every row of `rows` (this invocation's plan) that was classified from
+    a run folder, and for every other row of the matrix (not selected by --only, or not run
+    in the work folder) the published one when there is one."""
+    have = {(r.vehicle, r.scene, r.level): r for r in rows if r.outcome != "not run"}
+    full = []
+    for v in vehicles():
+        for s in scenes_for(v):
+            for lv in v.levels:
+                key = (v.key, s.key, lv.name)
+                if key in have:
+                    full.append(have[key])
+                elif s.key in lv.not_for:
+                    full.append(Row(v.key, s.key, lv.name, "n/a", lv.not_for[s.key]))
+                elif key in published:
+                    full.append(published[key])
+                else:
+                    full.append(Row(v.key, s.key, lv.name, "not run", "no status.json in the run folder"))
+    return full
+
+
 def render(rows: list[Row], meta: dict) -> str:
     vs = {v.key: v for v in vehicles()}
     out = ["### Stability at the extremes (bench/extremes/run.py)", "",
@@ -617,7 +672,10 @@ def render(rows: list[Row], meta: dict) -> str:
            "the outcome with the scene's physics (flange climb: derailment or inner-wheel lift-off stop; lift-off: lift-off stop; "
            "every other scene: completed). contact loss = exit 0 with finite results, but some wheel had no "
            "contact in some output samples in a scene without a lift-off or climb load (the run's notes); "
-           "the largest Y/Q of the run goes with it.", ""]
+           "the largest Y/Q of the run goes with it."
+           + (f" '{KEPT_MARK.strip()}' after an outcome: the row is kept from the table published before "
+              "(--keep-published), not rerun; the text above says which rows ran where." if any(r.kept for r in rows) else ""),
+           ""]
     for vkey, v in vs.items():
         vrows = [r for r in rows if r.vehicle == vkey]
         if not vrows:
@@ -630,7 +688,8 @@ def render(rows: list[Row], meta: dict) -> str:
             rhs = f"{r.rhs} + {r.rhs_jac}" if r.rhs else ""
             exp = "" if r.outcome in ("n/a", "not run") else ("yes" if r.expected else "**no**")
             reason = r.reason.replace("|", "/")
-            out.append(f"| {scenes[r.scene].title} | {r.level} | {r.outcome} | {exp} | {r.steps or ''} | {rhs} | "
+            outcome = r.outcome + (KEPT_MARK if r.kept else "")
+            out.append(f"| {scenes[r.scene].title} | {r.level} | {outcome} | {exp} | {r.steps or ''} | {rhs} | "
                        f"{fmt(r.cpu, '.1f')} | {fmt(r.t_reached, '.3g')} | {reason} |")
         out.append("")
     ran = [r for r in rows if r.outcome not in ("n/a", "not run")]
@@ -640,7 +699,9 @@ def render(rows: list[Row], meta: dict) -> str:
     out += [f"Totals: {len(ran)} runs: {counts['completed']} completed, {counts['physics stop']} physics stops, "
             f"{counts['contact loss']} with contact loss, {counts['FAILURE']} FAILURES; {sum(not r.expected for r in ran)} not as expected; "
             f"{cpu:.0f} CPU s in all ({cpu / 60:.1f} CPU min)."
-            + (f" {not_run} rows not run (the matrix was stopped before them)." if not_run else ""), "", meta["source"]]
+            + (f" {not_run} rows not run (the matrix was stopped before them)." if not_run else "")
+            + (f" {sum(r.kept for r in ran)} of the runs are rows kept from the earlier table." if any(r.kept for r in ran) else ""),
+            "", meta["source"]]
     return "\n".join(out) + "\n"
 
 
@@ -659,6 +720,9 @@ def main(argv=None) -> int:
     ap.add_argument("--no-run", action="store_true", help="classify the run folders of an earlier run only")
     ap.add_argument("--when", help="the published run's description (with --no-run: when and how it ran)")
     ap.add_argument("--json", type=Path, help="rows as JSON (default <work>/extremes.json)")
+    ap.add_argument("--keep-published", action="store_true",
+                    help="rows this invocation does not classify (not selected by --only, not run in the work folder) "
+                         "keep their row of the published table, marked; the whole table is written (with --only too)")
     args = ap.parse_args(argv)
     work = (args.work or args.build / "extremes").resolve()
     t0 = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
@@ -674,10 +738,15 @@ def main(argv=None) -> int:
             "source": f"Source: commit {commit}; host {platform.machine()}, {os.cpu_count()} CPUs."}
     if args.no_run:
         meta["when"] = args.when or f"Classified {t0} from the run folders of earlier runs (their times are not recorded here)."
+    if args.keep_published:
+        from performance_section import DOC
+        doc = DOC.read_text()
+        section = doc.split("<!-- BEGIN extremes -->", 1)[-1].split("<!-- END extremes -->", 1)[0]
+        rows = keep_published(rows, published_rows(section))
     text = render(rows, meta)
     print(text)
     (args.json or work / "extremes.json").write_text(json.dumps([r.__dict__ for r in rows], indent=1))
-    if not (args.no_write or args.quick or args.only):
+    if not (args.no_write or args.quick or (args.only and not args.keep_published)):
         from performance_section import write_section
         write_section("extremes", text)
     return 0

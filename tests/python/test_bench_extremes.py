@@ -140,3 +140,34 @@ def test_classifier_on_hand_made_runs(bench, tmp_path):
     assert row.reason.startswith("static equilibrium (exit 3 before the run): static positions: "), row.reason
     odd = _run_folder(tmp_path / "odd", 3, "raildyn: error: something else\n")
     assert bench.classify(odd, scene).outcome == "FAILURE"
+
+
+def test_keep_published_round_trip(bench):
+    """--keep-published: a published table read back gives its rows (outcome, counts, CPU, t,
+    reason, 'as expected'); a partial rerun keeps the published rows it did not rerun, marked,
+    and its own rows replace the published ones."""
+    v = bench.vehicles()[0]
+    s = bench.scenes_for(v)
+    rows = [bench.Row(v.key, s[0].key, v.levels[0].name, "completed", "", 10, 20, 5, 1.5, 2.0, 3.0, True),
+            bench.Row(v.key, s[3].key, v.levels[1].name, "FAILURE", "solver failure (exit 2): a / b", 7, 8, 9, 0.4,
+                      0.5, 2.28, False)]
+    text = bench.render(rows, {"when": "when", "source": "source"})
+    got = bench.published_rows(text)
+    assert set(got) == {(r.vehicle, r.scene, r.level) for r in rows}
+    for r in rows:
+        g = got[(r.vehicle, r.scene, r.level)]
+        assert (g.outcome, g.steps, g.rhs, g.rhs_jac, g.cpu, g.t_reached, g.expected, g.kept) == \
+            (r.outcome, r.steps, r.rhs, r.rhs_jac, r.cpu, r.t_reached, r.expected, True)
+        assert g.reason == r.reason
+    rerun = [bench.Row(v.key, s[3].key, v.levels[1].name, "completed", "", 70, 80, 90, 2.0, 2.0, 6.7, True),
+             bench.Row(v.key, s[0].key, v.levels[1].name, "not run", "no status.json in the run folder")]
+    full = bench.keep_published(rerun, got)
+    by = {(r.vehicle, r.scene, r.level): r for r in full}
+    assert len(full) == sum(len(bench.scenes_for(w)) * len(w.levels) for w in bench.vehicles())
+    assert by[(v.key, s[3].key, v.levels[1].name)].outcome == "completed"
+    assert not by[(v.key, s[3].key, v.levels[1].name)].kept
+    assert by[(v.key, s[0].key, v.levels[0].name)].kept
+    assert by[(v.key, s[0].key, v.levels[1].name)].outcome == "not run"
+    again = bench.published_rows(bench.render(full, {"when": "when", "source": "source"}))
+    assert (v.key, s[0].key, v.levels[0].name) in again and again[(v.key, s[0].key, v.levels[0].name)].kept
+    assert "(earlier run)" in bench.render(full, {"when": "when", "source": "source"})
