@@ -54,6 +54,7 @@ program test_scene_failure_policy
   use rd_kinds, only: wp
   use rd_error, only: error_t, RD_ERR_RUNTIME, RD_ERR_HANDLE
   use rd_test_support, only: check, stop_on, test_summary
+  use test_files, only: delete_file
   use rd_scene, only: scene_t
   use rd_multibody, only: multibody_t
   use rd_force_provider, only: force_provider_t
@@ -152,8 +153,8 @@ contains
     call nan%finalize(error)
     call clean%destroy()
     call nan%destroy()
-    call delete(tmpfile('clean.h5'))
-    call delete(tmpfile('once.h5'))
+    call delete_file(tmpfile('clean.h5'))
+    call delete_file(tmpfile('once.h5'))
   end subroutine nan_once_is_recovered
 
   subroutine persistent_nan_ends_the_run()
@@ -192,7 +193,7 @@ contains
     call check(abs(last%time - 0.5_wp) < 1e-12_wp, 'persistent NaN: the last row is the output at 0.5 s')
     call check(abs(last%y(1) - z_exact(0.5_wp)) < z_tol, 'persistent NaN: the rows written are on the closed form')
     call scene%destroy()
-    call delete(path)
+    call delete_file(path)
   end subroutine persistent_nan_ends_the_run
 
   !> /meta status and end_time of a closed results file.
@@ -226,10 +227,4 @@ contains
     call h5fclose_f(file, hdferr)
   end subroutine file_meta
 
-  subroutine delete(path)
-    character(len=*), intent(in) :: path
-    integer :: u, ios
-    open (newunit=u, file=path, status='old', iostat=ios)
-    if (ios == 0) close (u, status='delete')
-  end subroutine delete
 end program test_scene_failure_policy
