@@ -15,7 +15,7 @@ module rd_cmd_creep
   use rd_error, only: error_t
   use rd_creep_law, only: creep_law_t, creep_patch_t, creepage_t, creep_force_t, creep_law_options_t, &
                           validate_patch
-  use rd_creep_factory, only: make_creep_law
+  use rd_creep_factory, only: build_creep_law
   implicit none
   private
   public :: run_creep_command, creep_usage
@@ -95,7 +95,7 @@ contains
     if (allocated(error)) then
       call bad(error%message); return
     end if
-    call make_creep_law(law_name, options, law, error)
+    call build_creep_law(law_name, options, law, error)
     if (allocated(error)) then
       call bad(error%message); return
     end if

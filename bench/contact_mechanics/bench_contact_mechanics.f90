@@ -8,7 +8,7 @@ program bench_contact_mechanics
   use rd_error, only: error_t
   use rd_hertz
   use rd_creep_law
-  use rd_creep_factory, only: make_creep_law
+  use rd_creep_factory, only: build_creep_law
   implicit none
   integer, parameter :: n_laws = 7
   character(len=24), parameter :: law_label(n_laws) = [character(len=24) :: 'linear', 'linear + SHE', &
@@ -84,12 +84,12 @@ contains
     integer, parameter :: grids(4) = [5, 10, 20, 40]
     options = creep_law_options_t()
     select case (k)
-    case (1); call make_creep_law('linear', options, law, error)
-    case (2); options%saturation = 'shen_hedrick_elkins'; call make_creep_law('linear', options, law, error)
-    case (3); call make_creep_law('polach', options, law, error)
+    case (1); call build_creep_law('linear', options, law, error)
+    case (2); options%saturation = 'shen_hedrick_elkins'; call build_creep_law('linear', options, law, error)
+    case (3); call build_creep_law('polach', options, law, error)
     case default
       options%grid_nx = grids(k - 3); options%grid_ny = grids(k - 3)
-      call make_creep_law('fastsim', options, law, error)
+      call build_creep_law('fastsim', options, law, error)
     end select
     if (allocated(error)) error stop 1
   end subroutine build_law

@@ -63,7 +63,7 @@ contains
     type(wheel_contact_t) :: l, r
     real(wp) :: y, psi, z, phi, f(3), m(3), t0, t1, acc
     integer :: i, rep, nrep
-    call ws%init([spec], 1, error)
+    call ws%build([spec], 1, error)
     if (allocated(error)) error stop error%message
     tp%a = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
     tp%dr = [1.0_wp, 0.0_wp, 0.0_wp]

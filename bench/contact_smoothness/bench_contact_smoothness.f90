@@ -49,7 +49,7 @@ program bench_contact_smoothness
   use rd_wheelset_contact, only: wheelset_contact_t
   use rd_wheel_contact_result, only: wheel_result_t
   use rd_creep_law, only: creep_law_t, creep_patch_t, creep_force_t, creepage_t
-  use rd_creep_factory, only: make_creep_law
+  use rd_creep_factory, only: build_creep_law
   use rd_sweep_smoothness, only: smoothness_feature_t, find_jumps_and_kinks, FEATURE_JUMP, FEATURE_KINK
   implicit none
 
@@ -313,7 +313,7 @@ contains
     type(error_t), allocatable :: error
     real(wp) :: z, phi, lo, hi, out(n_pose_out)
     integer :: it
-    call ws%init([spec], 1, error)
+    call ws%build([spec], 1, error)
     if (allocated(error)) error stop error%message
     call rigid_contact(ws%models(1)%geo, 0.0_wp, 0.0_wp, z, phi, error)
     if (allocated(error)) error stop error%message
@@ -444,7 +444,7 @@ contains
       call cpu_time(t0)
       spec = default_spec()
       call apply_level(spec, all_pose(lv))
-      call ws%init([spec], 1, error)
+      call ws%build([spec], 1, error)
       if (allocated(error)) error stop 'bench_contact_smoothness: level ' // trim(all_pose(lv)) // ': ' // error%message
       ! rigid contact at the two poses of the approach and roll sweeps
       call rigid_contact(ws%models(1)%geo, 0.0_wp, 0.0_wp, z0(1), phi0(1), error)
@@ -641,7 +641,7 @@ contains
     do lv = 1, size(all_creep)
       spec = default_spec()
       call apply_level(spec, all_creep(lv))
-      call make_creep_law(spec%creep_law, spec%creep_options, law, error)
+      call build_creep_law(spec%creep_law, spec%creep_options, law, error)
       if (allocated(error)) error stop 'bench_contact_smoothness: level ' // trim(all_creep(lv)) // ': ' // error%message
       do sw = 1, nsweep
         do i = 1, npoints

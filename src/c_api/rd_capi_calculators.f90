@@ -9,7 +9,7 @@ module rd_capi_calculators
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_init, hertz_from_force, hertz_from_penetration
   use rd_creep_law, only: creep_law_t, creep_patch_t, creepage_t, creep_force_t, creep_law_options_t, &
                           validate_patch
-  use rd_creep_factory, only: make_creep_law
+  use rd_creep_factory, only: build_creep_law
   implicit none
   private
   public :: rd_hertz_patch, rd_creep_forces
@@ -102,7 +102,7 @@ contains
     if (grid > 0) then
       options%grid_nx = grid; options%grid_ny = grid
     end if
-    call make_creep_law(name, options, creep_law, error)
+    call build_creep_law(name, options, creep_law, error)
     if (allocated(error)) return
     call creep_law%compute(patch, creep, force)
     call put(fx, force%fx)

@@ -1,4 +1,4 @@
-!> What defines one rigid body of the multibody model (parameters, fixed after init).
+!> What defines one rigid body of the multibody model (parameters, fixed after build).
 !>
 !> Coordinates q = (x, y, z, psi, phi, theta) relative to the body's track frame
 !> (docs/conventions.md, thesis eq. 4.6 and 4.29); orientation B = Rz(psi) Rx(phi) Ry(theta).

@@ -39,7 +39,7 @@ module rd_external_loads
     real(wp), allocatable :: force(:, :)    !< (3, nbodies)
     real(wp), allocatable :: moment(:, :)   !< (3, nbodies)
   contains
-    procedure :: init => override_init
+    procedure :: build => override_build
     procedure :: set => override_set
     procedure :: add_forces => override_add_forces
   end type override_loads_t
@@ -93,14 +93,14 @@ contains
     end do
   end subroutine external_add_forces
 
-  subroutine override_init(self, nbodies)
+  subroutine override_build(self, nbodies)
     class(override_loads_t), intent(inout) :: self
     integer, intent(in) :: nbodies
     if (allocated(self%force)) deallocate (self%force, self%moment)
     allocate (self%force(3, nbodies), self%moment(3, nbodies))
     self%force = 0
     self%moment = 0
-  end subroutine override_init
+  end subroutine override_build
 
   subroutine override_set(self, body, force, moment, error)
     class(override_loads_t), intent(inout) :: self

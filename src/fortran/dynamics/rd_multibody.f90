@@ -97,7 +97,7 @@ module rd_multibody
     !> preload balance: the vehicle's preloads at its initial configuration, wheelsets held)
     logical :: hold_quasi_static = .false.
   contains
-    procedure :: init
+    procedure :: build
     procedure :: add_element
     procedure :: add_provider
     procedure :: state_size
@@ -118,7 +118,7 @@ module rd_multibody
 contains
 
   !> Build the system from body specs, the track frames' offsets, a track and a speed law.
-  subroutine init(self, bodies, frame_offsets, track, speed, error, sigma0, gravity)
+  subroutine build(self, bodies, frame_offsets, track, speed, error, sigma0, gravity)
     class(multibody_t), intent(inout) :: self
     type(body_spec_t), intent(in) :: bodies(:)
     real(wp), intent(in) :: frame_offsets(:)
@@ -180,10 +180,10 @@ contains
     self%qs_history_count = 0
     allocate (self%elements(0), self%providers(0), self%el_state_start(0), self%scratch%el_res(0))
     allocate (self%scratch%frames(size(frame_offsets)), self%scratch%kin(size(bodies)), self%scratch%loads(size(bodies)))
-    call self%override%init(size(bodies))
-  end subroutine init
+    call self%override%build(size(bodies))
+  end subroutine build
 
-  !> Forget a previous model (init may be called again on the same object).
+  !> Forget a previous model (build may be called again on the same object).
   subroutine clear(self)
     class(multibody_t), intent(inout) :: self
     if (allocated(self%bodies)) deallocate (self%bodies)
@@ -214,7 +214,7 @@ contains
     type(element_result_t), allocatable :: res(:)
     integer :: n
     if (.not. allocated(self%bodies)) then
-      call make_error(error, RD_ERR_INPUT, 'multibody: add_element before init'); return
+      call make_error(error, RD_ERR_INPUT, 'multibody: add_element before build'); return
     end if
     call element%check_bodies(size(self%bodies), error)
     if (allocated(error)) return

@@ -31,7 +31,7 @@ contains
     end if
     call self%deck%get('simulation', 1, 'gravity', gravity, error); if (allocated(error)) return
     allocate (self%mbs)
-    call self%mbs%init(bodies, self%frame_offsets, self%track, self%speed, error, &
+    call self%mbs%build(bodies, self%frame_offsets, self%track, self%speed, error, &
                        sigma0=self%start_sigma, gravity=gravity)
     if (allocated(error)) return
     do i = 1, self%deck%count('element')
@@ -95,7 +95,7 @@ contains
       labels(i) = self%deck%origin('wheelset', i)
     end do
     allocate (self%contact)
-    call self%contact%init(specs, self%nbodies, error, labels)
+    call self%contact%build(specs, self%nbodies, error, labels)
     if (allocated(error)) then
       ! wheel and rail that do not overlap: the values that place them may come from other
       ! lines (or files) than the &wheelset's own, so name where each one was given
@@ -215,14 +215,14 @@ contains
         call scene_jacobian_sparsity(self%mbs, sparsity, dense_reason, error)
         if (allocated(error)) return
         if (allocated(dense_reason)) then
-          call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error)
+          call self%integrator%build(self%mbs, 0.0_wp, self%y, self%solver, error)
         else
-          call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error, &
+          call self%integrator%build(self%mbs, 0.0_wp, self%y, self%solver, error, &
                                     jacobian_sparsity=sparsity)
         end if
       end block
     else
-      call self%integrator%init(self%mbs, 0.0_wp, self%y, self%solver, error)
+      call self%integrator%build(self%mbs, 0.0_wp, self%y, self%solver, error)
     end if
     if (allocated(error)) call error_context(error, self%deck%origin('solver', 1))
   end procedure start_mechanics

@@ -4,7 +4,7 @@
 !>   Solving ODEs I, table II.1.1): global error O(h^4).
 !> - 'heun': the explicit trapezoidal rule (Heun 1900), 2 stages, global error O(h^2).
 !>
-!> Work arrays are allocated once (init) and reused: no allocation per step.
+!> Work arrays are allocated once (build) and reused: no allocation per step.
 module rd_fixed_step
   use rd_kinds, only: wp
   use rd_rhs_context, only: rhs_context_t, RHS_OK

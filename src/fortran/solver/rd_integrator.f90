@@ -13,13 +13,13 @@
 !> | 'rk4'   | classical Runge-Kutta, fixed step (Fortran) | deterministic, real-time style   |
 !> | 'heun'  | explicit trapezoid, fixed step (Fortran)    | cheap, low accuracy              |
 !>
-!> Shape (OpenFAST-like): `init` fixes the parameters, `advance` integrates to exactly
+!> Shape (OpenFAST-like): `build` fixes the parameters, `advance` integrates to exactly
 !> the requested output time (never beyond: SUNDIALS runs with a stop time at t_out, so
 !> stepping in chunks equals one long run within the tolerance), `reinit` restarts after a
 !> discontinuity, `get_stats` reports counters, `destroy` frees everything. Each integrator
 !> owns its SUNDIALS context and its rhs_context_t: no module-global state.
 !>
-!> The system passed to `init` must have the TARGET attribute (or be a pointer) and must
+!> The system passed to `build` must have the TARGET attribute (or be a pointer) and must
 !> outlive the integrator. Do not copy an initialised integrator_t (the copy would share
 !> the SUNDIALS memory); pass it by reference.
 module rd_integrator
@@ -69,7 +69,7 @@ module rd_integrator
     !> caller must reinit (from the returned y or another state) before advancing again.
     logical :: failed = .false.
   contains
-    procedure :: init
+    procedure :: build
     procedure :: advance
     procedure :: reinit
     procedure :: get_stats
@@ -89,7 +89,7 @@ contains
   !> only, ignored by the others) replaces CVODE's difference-quotient Jacobian;
   !> `jacobian_sparsity` (same) replaces it by coloured difference quotients (one RHS call
   !> per column group). At most one of the two.
-  subroutine init(self, system, t0, y0, settings, error, jacobian, jacobian_sparsity)
+  subroutine build(self, system, t0, y0, settings, error, jacobian, jacobian_sparsity)
     class(integrator_t), intent(inout) :: self
     class(ode_system_t), target, intent(inout) :: system
     real(wp), intent(in) :: t0
@@ -109,37 +109,37 @@ contains
     if (self%n <= 0) then
       call make_error(error, RD_ERR_INPUT, 'the system has no state (state_size() <= 0); ' // &
                       'expected at least one state variable')
-      call error_context(error, 'integrator init')
+      call error_context(error, 'integrator build')
       return
     end if
     if (size(y0) /= self%n) then
       call make_error(error, RD_ERR_INPUT, 'y0 has ' // trim(int_text(size(y0))) // ' components but ' // &
                       'the system has ' // trim(int_text(self%n)) // '; expected one value per state')
-      call error_context(error, 'integrator init')
+      call error_context(error, 'integrator build')
       return
     end if
     if (.not. ieee_is_finite(t0) .or. .not. all(ieee_is_finite(y0))) then
       call make_error(error, RD_ERR_INPUT, 't0 or y0 is not finite (NaN or Inf); ' // &
                       'expected a finite initial state')
-      call error_context(error, 'integrator init')
+      call error_context(error, 'integrator build')
       return
     end if
     call validate_settings(settings, self%n, error)
     if (allocated(error)) then
-      call error_context(error, 'integrator init')
+      call error_context(error, 'integrator build')
       return
     end if
     if (present(jacobian) .and. present(jacobian_sparsity)) then
       call make_error(error, RD_ERR_INPUT, 'both an analytic jacobian and a jacobian_sparsity ' // &
                       'were given; expected at most one')
-      call error_context(error, 'integrator init')
+      call error_context(error, 'integrator build')
       return
     end if
     if (present(jacobian_sparsity)) then
       if (jacobian_sparsity%n /= self%n) then
         call make_error(error, RD_ERR_INPUT, 'jacobian_sparsity is for ' // trim(int_text(jacobian_sparsity%n)) // &
                         ' states but the system has ' // trim(int_text(self%n)) // '; expected one column per state')
-        call error_context(error, 'integrator init')
+        call error_context(error, 'integrator build')
         return
       end if
     end if
@@ -183,9 +183,9 @@ contains
     end select
     if (allocated(error)) then
       call self%destroy()
-      call error_context(error, 'integrator init')
+      call error_context(error, 'integrator build')
     end if
-  end subroutine init
+  end subroutine build
 
   !> Integrate from the current time to exactly t_out (>= current time) and return the
   !> state there. On failure `error` names the method, the time reached, the last step
@@ -210,7 +210,7 @@ contains
     real(wp) :: y_before(self%n)
 
     if (self%method == 0) then
-      call make_error(error, RD_ERR_HANDLE, 'integrator used before init')
+      call make_error(error, RD_ERR_HANDLE, 'integrator used before build')
       return
     end if
     if (self%failed) then
@@ -398,7 +398,7 @@ contains
     integer(c_int) :: flag
 
     if (self%method == 0) then
-      call make_error(error, RD_ERR_HANDLE, 'integrator reinit before init')
+      call make_error(error, RD_ERR_HANDLE, 'integrator reinit before build')
       return
     end if
     if (size(y) /= self%n) then
@@ -429,7 +429,7 @@ contains
     self%reinits = self%reinits + 1
   end subroutine reinit
 
-  !> Counters cumulative since init (see integrator_stats_t). The RHS calls of coloured
+  !> Counters cumulative since build (see integrator_stats_t). The RHS calls of coloured
   !> Jacobians are counted by the context (CVODE only counts its own difference quotients).
   subroutine get_stats(self, stats)
     class(integrator_t), intent(in) :: self
@@ -468,7 +468,7 @@ contains
     stats%reinits = self%reinits
   end subroutine engine_stats
 
-  !> Free the SUNDIALS memory and work arrays; the integrator can be init'ed again.
+  !> Free the SUNDIALS memory and work arrays; the integrator can be built again.
   subroutine destroy(self)
     class(integrator_t), intent(inout) :: self
     if (c_associated(self%glue)) call rd_glue_destroy(self%glue)

@@ -31,7 +31,7 @@ module rd_integrator_settings
     integer :: max_order = 0              !< cap on the BDF (<= 5) or Adams (<= 12) order; 0 = default
   end type integrator_settings_t
 
-  !> Counters, cumulative since `init` (reinit does not reset them).
+  !> Counters, cumulative since `build` (reinit does not reset them).
   type :: integrator_stats_t
     integer(i8) :: steps = 0                   !< accepted steps
     integer(i8) :: rhs_evals = 0               !< RHS calls by the method itself

@@ -202,7 +202,7 @@ contains
       ab%inertia = body(1)%inertia
       ab%points = reshape([0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, -1.0_wp, 0.0_wp], [3, 2])
     end if
-    call mb%init(body, [0.0_wp], track, speed, error, sigma0=sigma0)
+    call mb%build(body, [0.0_wp], track, speed, error, sigma0=sigma0)
     do i = 1, 2
       spring%body1 = 0; spring%body2 = 1
       spring%u1 = ab%points(:, i) + [body(1)%q0(1), 0.0_wp, body(1)%q0(3) - 0.03_wp]
@@ -232,10 +232,10 @@ contains
     settings%rtol = 1.0e-11_wp
     settings%atol = 1.0e-13_wp
     settings%max_num_steps = 1000000
-    call int_mb%init(mb, 0.0_wp, y, settings, error)
-    if (.not. allocated(error)) call int_ab%init(ab, 0.0_wp, z, settings, error)
+    call int_mb%build(mb, 0.0_wp, y, settings, error)
+    if (.not. allocated(error)) call int_ab%build(ab, 0.0_wp, z, settings, error)
     if (allocated(error)) then
-      print '(a)', 'FAIL: integrator init: ' // error%message; error stop 1
+      print '(a)', 'FAIL: integrator build: ' // error%message; error stop 1
     end if
     dr = 0; drot = 0; scale = 0; t = 0
     do step = 1, nint(t_end / 0.25_wp)

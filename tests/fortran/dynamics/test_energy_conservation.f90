@@ -35,7 +35,7 @@ program test_energy_conservation
   body(1)%inertia = reshape([400.0_wp, 0.0_wp, 35.0_wp, 0.0_wp, 650.0_wp, 0.0_wp, 35.0_wp, 0.0_wp, 520.0_wp], [3, 3])
   body(1)%q0 = [0.02_wp, -0.03_wp, 0.015_wp, 0.2_wp, -0.3_wp, 0.25_wp]
   body(1)%qdot0 = [0.1_wp, -0.05_wp, 0.08_wp, 0.6_wp, -0.9_wp, 0.7_wp]
-  call mb%init(body, [0.0_wp], track, constant_speed(30.0_wp), error, sigma0=5.0_wp)
+  call mb%build(body, [0.0_wp], track, constant_speed(30.0_wp), error, sigma0=5.0_wp)
   if (allocated(error)) then
     print *, error%message; error stop 1
   end if

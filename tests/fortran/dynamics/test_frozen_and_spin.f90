@@ -74,7 +74,7 @@ contains
     end do
     body(1)%name = 'a'; body(2)%name = 'b'
     body(2)%frozen = [.true., .false., .true., .false., .true., .false.]
-    call mb%init(body, [0.0_wp], track, constant_speed(20.0_wp), error)
+    call mb%build(body, [0.0_wp], track, constant_speed(20.0_wp), error)
     spring%body1 = 1; spring%body2 = 2
     spring%u1 = [0.3_wp, 0.2_wp, 0.1_wp]; spring%u2 = [-0.2_wp, 0.1_wp, -0.3_wp]
     spring%stiffness = [1.0e5_wp, 2.0e5_wp, 3.0e5_wp]
@@ -112,13 +112,13 @@ contains
     body(1)%q0 = [0.0_wp, 0.0_wp, r0, 0.0_wp, 0.0_wp, beta0]
     body(1)%qdot0(6) = dbeta0
     body(1)%frozen(6) = frozen_spin
-    call mb%init(body, [0.0_wp], track, law, error, gravity=0.0_wp)
+    call mb%build(body, [0.0_wp], track, law, error, gravity=0.0_wp)
     allocate (y(mb%state_size()), ydot(mb%state_size()))
     call mb%initial_state(y, error)
     ! adaptive Dormand-Prince: the ramp's end makes dV/dt jump, which a fixed-step method
     ! would straddle
     settings%method = 'erk'; settings%rtol = 1.0e-12_wp; settings%atol = 1.0e-12_wp
-    call integ%init(mb, 0.0_wp, y, settings, error)
+    call integ%build(mb, 0.0_wp, y, settings, error)
     if (.not. allocated(error)) call integ%advance(t_end, y, error)
     ok = .not. allocated(error)
     call check(ok, 'integration')
@@ -151,7 +151,7 @@ contains
     body(1)%mass = 100
     body(1)%inertia = reshape([10.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 20.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 40.0_wp], [3, 3])
     body(1)%q0(4) = 0.3_wp                             ! yawed by 0.3 rad in the frame
-    call mb%init(body, [0.0_wp], circle, constant_speed(0.0_wp), error, gravity=0.0_wp)
+    call mb%build(body, [0.0_wp], circle, constant_speed(0.0_wp), error, gravity=0.0_wp)
     ld%body = 1; ld%frame = LOAD_FRAME_FIXED; ld%force = [0.0_wp, 0.0_wp, 50.0_wp]; ld%t_on = 1; ld%t_off = 2
     call ext%add_load(ld, 1, error)
     ld%frame = LOAD_FRAME_TRACK; ld%force = [10.0_wp, 0.0_wp, 0.0_wp]; ld%t_on = -1; ld%t_off = 10
@@ -184,15 +184,15 @@ contains
     real(wp), allocatable :: y(:), ydot(:)
     body(1)%name = 'bad'
     body(1)%inertia = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
-    call mb%init(body, [0.0_wp], track, constant_speed(1.0_wp), error)
+    call mb%build(body, [0.0_wp], track, constant_speed(1.0_wp), error)
     call check(allocated(error), 'zero mass rejected')
     if (allocated(error)) print '(a)', '  message: ' // error%message
     body(1)%mass = 1
     body(1)%frame = 2
-    call mb%init(body, [0.0_wp], track, constant_speed(1.0_wp), error)
+    call mb%build(body, [0.0_wp], track, constant_speed(1.0_wp), error)
     call check(allocated(error), 'frame index out of range rejected')
     body(1)%frame = 1
-    call mb%init(body, [0.0_wp], track, constant_speed(1.0_wp), error)
+    call mb%build(body, [0.0_wp], track, constant_speed(1.0_wp), error)
     allocate (y(mb%state_size()), ydot(mb%state_size()))
     call mb%initial_state(y, error)
     y(5) = 2 * atan(1.0_wp)          ! 90 deg roll

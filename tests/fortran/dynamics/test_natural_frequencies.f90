@@ -84,7 +84,7 @@ contains
     body(1)%mass = m
     body(1)%inertia = reshape([ix, 0.0_wp, 0.0_wp, 0.0_wp, 500.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 400.0_wp], [3, 3])
     body(1)%frozen = frozen
-    call mb%init(body, [0.0_wp], track, constant_speed(50.0_wp), error)
+    call mb%build(body, [0.0_wp], track, constant_speed(50.0_wp), error)
     spring%body1 = 0; spring%body2 = 1
     spring%u1 = [0.0_wp, 0.0_wp, lpivot]      ! on the track frame
     spring%u2 = [0.0_wp, 0.0_wp, lpivot]      ! on the body, l above its CG

@@ -46,8 +46,8 @@ program test_static_positions
   b(1)%inertia = reshape([100, 0, 0, 0, 100, 0, 0, 0, 100], [3, 3])
   b(1)%q0 = [0.0_wp, 0.0_wp, z0, 0.0_wp, 0.0_wp, 0.0_wp]
   b(1)%frozen = [.false., .false., .false., .true., .true., .true.]
-  call mb%init(b, [0.0_wp], track, constant_speed(20.0_wp), error, sigma0=50.0_wp)
-  call stop_on(error, 'init')
+  call mb%build(b, [0.0_wp], track, constant_speed(20.0_wp), error, sigma0=50.0_wp)
+  call stop_on(error, 'build')
   ! both from the ground point 0.5 m below the track origin to the block's point 1 m below
   ! its centre: 0.5 m long and vertical at the start, unstressed
   spring%body1 = 0; spring%body2 = 1

@@ -76,7 +76,7 @@ contains
     body(1)%mass = m
     body(1)%inertia = reshape([500.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 800.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 700.0_wp], [3, 3])
     body(1)%frozen = [.true., .false., .false., .true., .true., .true.]
-    call mb%init(body, [0.0_wp], track, constant_speed(v), error)
+    call mb%build(body, [0.0_wp], track, constant_speed(v), error)
     spring%body1 = 0; spring%body2 = 1
     spring%stiffness = [0.0_wp, ky, kz]
     spring%damping = [0.0_wp, 2 * 0.7_wp * sqrt(ky * m), 2 * 0.7_wp * sqrt(kz * m)]
@@ -86,7 +86,7 @@ contains
     call check(size(y) == 4, 'frozen x and angles leave the state')
     settings%method = 'bdf'; settings%rtol = 1.0e-10_wp; settings%atol = 1.0e-13_wp
     settings%max_num_steps = 100000
-    call integ%init(mb, 0.0_wp, y, settings, error)
+    call integ%build(mb, 0.0_wp, y, settings, error)
     if (.not. allocated(error)) call integ%advance(8.0_wp, y, error)
     ok = .not. allocated(error)
     if (.not. ok) print '(a)', error%message
@@ -139,7 +139,7 @@ contains
     body(1)%inertia = reshape([500.0_wp, 0.0_wp, 30.0_wp, 0.0_wp, 800.0_wp, 0.0_wp, 30.0_wp, 0.0_wp, 700.0_wp], [3, 3])
     body(1)%q0 = [0.01_wp, 0.0_wp, 0.02_wp, 0.0_wp, 0.0_wp, 0.01_wp]
     body(1)%qdot0 = [0.05_wp, 0.0_wp, -0.03_wp, 0.0_wp, 0.0_wp, 0.04_wp]
-    call mb%init(body, [0.0_wp], track, constant_speed(v), error)
+    call mb%build(body, [0.0_wp], track, constant_speed(v), error)
     ! front-rear asymmetric (yaw couples to the lateral load), left-right symmetric
     corners = reshape([1.0_wp, 0.9_wp, -0.4_wp, 1.0_wp, -0.9_wp, -0.4_wp, -1.5_wp, 0.9_wp, -0.4_wp, &
                        -1.5_wp, -0.9_wp, -0.4_wp], [3, 4])

@@ -153,7 +153,7 @@ contains
     b(7)%inertia = diag([69677.28_wp, 2430000.0_wp, 2430000.0_wp])
     b(7)%frame = 1
     b(7)%q0 = [-1.5_wp - 9.35_wp, 0.0_wp, hc, 0.0_wp, 0.0_wp, 0.0_wp]
-    call mb%init(b, offsets, track, constant_speed(v), error, sigma0=100.0_wp)
+    call mb%build(b, offsets, track, constant_speed(v), error, sigma0=100.0_wp)
     if (allocated(error)) then
       print *, error%message; error stop 1
     end if

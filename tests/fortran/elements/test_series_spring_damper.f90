@@ -32,7 +32,7 @@ program test_series_spring_damper
   body(1)%inertia = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
   body(1)%q0 = [0.3_wp, 0.4_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
   body(1)%frozen = .true.
-  call mb%init(body, [0.0_wp], track, constant_speed(10.0_wp), error)
+  call mb%build(body, [0.0_wp], track, constant_speed(10.0_wp), error)
   sd%body1 = 0; sd%body2 = 1
   sd%stiffness = k; sd%damping = c; sd%free_length = l0
   call mb%add_element(sd, error)
@@ -46,7 +46,7 @@ program test_series_spring_damper
 
   ! move the held body so the elongation is 0.02 m, damper undeflected
   body(1)%q0(1:2) = [0.3_wp, 0.4_wp] * (l0 + 0.02_wp) / 0.5_wp
-  call mb%init(body, [0.0_wp], track, constant_speed(10.0_wp), error)
+  call mb%build(body, [0.0_wp], track, constant_speed(10.0_wp), error)
   call mb%add_element(sd, error)
   y = 0
   err = 0

@@ -49,8 +49,8 @@ contains
     s = settings_for(method)
     y0 = [1.0_wp, 0.0_wp]
     y = y0
-    call integ%init(osc, 0.0_wp, y0, s, error)
-    call check(.not. allocated(error), method // ' init: ' // msg(error))
+    call integ%build(osc, 0.0_wp, y0, s, error)
+    call check(.not. allocated(error), method // ' build: ' // msg(error))
     energy0 = 0.5_wp * (y0(2)**2 + osc%omega**2 * y0(1)**2)
     max_err = 0.0_wp
     energy_drift = 0.0_wp
@@ -130,8 +130,8 @@ contains
 
     s = settings_for(method)
     decay%lambda = 2.0_wp
-    call integ%init(decay, 0.0_wp, [1.0_wp], s, error)
-    call check(.not. allocated(error), method // ' init: ' // msg(error))
+    call integ%build(decay, 0.0_wp, [1.0_wp], s, error)
+    call check(.not. allocated(error), method // ' build: ' // msg(error))
     max_rel_err = 0.0_wp
     do i = 1, 20
       t = 0.25_wp * i

@@ -165,11 +165,11 @@ contains
     settings%rtol = rtol
     settings%atol = rtol * 1.0e-3_wp
     if (jacobian == 'coloured') then
-      call integ%init(chain, 0.0_wp, y0, settings, error, jacobian_sparsity=sparsity)
+      call integ%build(chain, 0.0_wp, y0, settings, error, jacobian_sparsity=sparsity)
     else
-      call integ%init(chain, 0.0_wp, y0, settings, error)
+      call integ%build(chain, 0.0_wp, y0, settings, error)
     end if
-    call check(.not. allocated(error), 'integrator init failed')
+    call check(.not. allocated(error), 'integrator build failed')
     y = y0
     call integ%advance(0.2_wp, y, error)
     call check(.not. allocated(error), 'advance failed')

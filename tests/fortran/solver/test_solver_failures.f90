@@ -60,8 +60,8 @@ contains
     character(len=40) :: pieces(5)
 
     system%mode = FAIL_FATAL
-    call integ%init(system, 0.0_wp, [1.0_wp], settings_for(method), error)
-    call check(.not. allocated(error), method // ' init')
+    call integ%build(system, 0.0_wp, [1.0_wp], settings_for(method), error)
+    call check(.not. allocated(error), method // ' build')
     y = -99.0_wp
     call integ%advance(2.0_wp, y, error)
     ! The model's own code (physics limit) travels through the integrator.
@@ -103,8 +103,8 @@ contains
     real(wp) :: y(1)
 
     system%mode = FAIL_NAN
-    call integ%init(system, 0.0_wp, [1.0_wp], settings_for(method), error)
-    call check(.not. allocated(error), method // ' init')
+    call integ%build(system, 0.0_wp, [1.0_wp], settings_for(method), error)
+    call check(.not. allocated(error), method // ' build')
     call integ%advance(2.0_wp, y, error)
     call expect(error, RD_ERR_RUNTIME, [character(len=40) :: 'non-finite derivative', &
                 'time reached'], method // ' NaN rhs')
@@ -121,8 +121,8 @@ contains
     character(len=40) :: pieces(2)
 
     system%mode = FAIL_RECOVERABLE_ALWAYS
-    call integ%init(system, 0.0_wp, [1.0_wp], settings_for(method), error)
-    call check(.not. allocated(error), method // ' init')
+    call integ%build(system, 0.0_wp, [1.0_wp], settings_for(method), error)
+    call check(.not. allocated(error), method // ' build')
     call integ%advance(1.0_wp, y, error)
     pieces(1) = 'contact search out of range'
     pieces(2) = prefix
@@ -147,8 +147,8 @@ contains
     s = settings_for(method)
     s%rtol = 1.0e-8_wp
     s%atol = 1.0e-12_wp
-    call integ%init(system, 0.0_wp, [1.0_wp], s, error)
-    call check(.not. allocated(error), method // ' init')
+    call integ%build(system, 0.0_wp, [1.0_wp], s, error)
+    call check(.not. allocated(error), method // ' build')
     call integ%advance(2.0_wp, y, error)
     if (allocated(error)) write (*, '(a)') error%message
     call check(.not. allocated(error), method // ': recoverable RHS failures not recovered')
@@ -170,8 +170,8 @@ contains
 
     s = settings_for(method)
     s%max_num_steps = 50
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
-    call check(.not. allocated(error), method // ' init')
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
+    call check(.not. allocated(error), method // ' build')
     call integ%advance(100.0_wp, y, error)
     if (method == 'rk4') then
       call expect(error, RD_ERR_RUNTIME, [character(len=40) :: 'max_num_steps', 'needs'], &
@@ -194,31 +194,31 @@ contains
     real(wp) :: y(2), y3(3)
 
     call integ%advance(1.0_wp, y, error)
-    call expect(error, RD_ERR_HANDLE, [character(len=40) :: 'before init'], 'advance before init')
+    call expect(error, RD_ERR_HANDLE, [character(len=40) :: 'before build'], 'advance before build')
     s%method = 'euler'
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
-    call expect(error, RD_ERR_INPUT, [character(len=40) :: "'euler'", "'bdf'", 'integrator init'], &
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
+    call expect(error, RD_ERR_INPUT, [character(len=40) :: "'euler'", "'bdf'", 'integrator build'], &
                 'unknown method')
     s%method = 'rk4'
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
     call expect(error, RD_ERR_INPUT, [character(len=40) :: 'fixed_step'], 'rk4 without fixed_step')
     s = integrator_settings_t()
     s%rtol = -1.0_wp
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
     call expect(error, RD_ERR_INPUT, [character(len=40) :: 'rtol'], 'negative rtol')
     s = integrator_settings_t()
     s%atol_vector = [1.0e-8_wp]
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
     call expect(error, RD_ERR_INPUT, [character(len=40) :: 'atol_vector'], 'atol_vector size')
     s = integrator_settings_t()
     s%max_order = 6
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
     call expect(error, RD_ERR_INPUT, [character(len=40) :: 'max_order'], 'bdf order 6')
     s = integrator_settings_t()
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp, 0.0_wp], s, error)
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp, 0.0_wp], s, error)
     call expect(error, RD_ERR_INPUT, [character(len=40) :: 'y0 has 3'], 'y0 size')
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
-    call check(.not. allocated(error), 'valid init')
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
+    call check(.not. allocated(error), 'valid build')
     call integ%advance(1.0_wp, y3, error)
     call expect(error, RD_ERR_INPUT, [character(len=40) :: 'y has 3'], 'advance y size')
     call integ%advance(1.0_wp, y, error)
@@ -245,8 +245,8 @@ contains
     s%max_step = 1.0e-2_wp
     s%atol_vector = [1.0e-10_wp, 1.0e-9_wp]
     s%rtol = 1.0e-8_wp
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
-    call check(.not. allocated(error), 'init with max_step and atol_vector')
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
+    call check(.not. allocated(error), 'build with max_step and atol_vector')
     call integ%advance(1.0_wp, y, error)
     call check(.not. allocated(error), 'advance with max_step and atol_vector')
     call integ%get_stats(stats)

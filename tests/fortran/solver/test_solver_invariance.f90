@@ -46,10 +46,10 @@ contains
     real(wp), parameter :: t_end = 2.0_wp
 
     y0 = [1.0_wp, 0.0_wp]
-    call one%init(osc_one, 0.0_wp, y0, settings_for(method), error)
-    call check(.not. allocated(error), method // ' init')
-    call chunks%init(osc_chunks, 0.0_wp, y0, settings_for(method), error)
-    call check(.not. allocated(error), method // ' init')
+    call one%build(osc_one, 0.0_wp, y0, settings_for(method), error)
+    call check(.not. allocated(error), method // ' build')
+    call chunks%build(osc_chunks, 0.0_wp, y0, settings_for(method), error)
+    call check(.not. allocated(error), method // ' build')
     call one%advance(t_end, y_one, error)
     call check(.not. allocated(error), method // ' single advance')
     do i = 1, 1000
@@ -98,23 +98,23 @@ contains
     ! Different output times for the two integrators, advanced alternately.
     ta = [(0.13_wp * i, i = 1, 10)]
     tb = [(0.07_wp * i, i = 1, 10)]
-    call a%init(osc_a, 0.0_wp, [0.5_wp, 1.0_wp], settings_for(method), error)
-    call check(.not. allocated(error), method // ' init a')
-    call b%init(decay_b, 0.0_wp, [3.0_wp], settings_for(method), error)
-    call check(.not. allocated(error), method // ' init b')
+    call a%build(osc_a, 0.0_wp, [0.5_wp, 1.0_wp], settings_for(method), error)
+    call check(.not. allocated(error), method // ' build a')
+    call b%build(decay_b, 0.0_wp, [3.0_wp], settings_for(method), error)
+    call check(.not. allocated(error), method // ' build b')
     do i = 1, 10
       call a%advance(ta(i), ya, error)
       call check(.not. allocated(error), method // ' advance a')
       call b%advance(tb(i), yb, error)
       call check(.not. allocated(error), method // ' advance b')
     end do
-    call alone%init(osc_alone, 0.0_wp, [0.5_wp, 1.0_wp], settings_for(method), error)
+    call alone%build(osc_alone, 0.0_wp, [0.5_wp, 1.0_wp], settings_for(method), error)
     do i = 1, 10
       call alone%advance(ta(i), ya_alone, error)
       call check(.not. allocated(error), method // ' advance alone')
     end do
     call alone%destroy()
-    call alone%init(decay_alone, 0.0_wp, [3.0_wp], settings_for(method), error)
+    call alone%build(decay_alone, 0.0_wp, [3.0_wp], settings_for(method), error)
     do i = 1, 10
       call alone%advance(tb(i), yb_alone, error)
       call check(.not. allocated(error), method // ' advance alone')
@@ -143,7 +143,7 @@ contains
 
     t1 = 0.6_wp
     t2 = 1.7_wp
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp], settings_for(method), error)
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp], settings_for(method), error)
     call integ%advance(t1, y, error)
     call check(.not. allocated(error), method // ' advance before reinit')
     call integ%get_stats(stats_before)

@@ -51,8 +51,8 @@ contains
 
     s%method = method
     s%fixed_step = h
-    call integ%init(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
-    call check(.not. allocated(error), method // ' init')
+    call integ%build(osc, 0.0_wp, [1.0_wp, 0.0_wp], s, error)
+    call check(.not. allocated(error), method // ' build')
     do i = 1, 10
       call integ%advance(0.2_wp * i, y, error)
       call check(.not. allocated(error), method // ' advance')

@@ -103,8 +103,8 @@ contains
     s%rtol = 1.0e-6_wp
     s%atol = 1.0e-8_wp
     s%fixed_step = 1.0e-3_wp
-    call integ%init(system, 0.0_wp, [1.0_wp], s, error)
-    call check(.not. allocated(error), method // ' init failed')
+    call integ%build(system, 0.0_wp, [1.0_wp], s, error)
+    call check(.not. allocated(error), method // ' build failed')
     max_err = 0.0_wp
     do i = 1, 100
       t = 0.1_wp * i
@@ -135,11 +135,11 @@ contains
     s%max_num_steps = 1000000
     y0 = [1.0_wp, -1.0_wp]   ! excites both modes (V^-1 y0 = [1.67, -1.33])
     if (analytic) then
-      call integ%init(system, 0.0_wp, y0, s, error, jacobian=stiff_pair_jacobian)
+      call integ%build(system, 0.0_wp, y0, s, error, jacobian=stiff_pair_jacobian)
     else
-      call integ%init(system, 0.0_wp, y0, s, error)
+      call integ%build(system, 0.0_wp, y0, s, error)
     end if
-    call check(.not. allocated(error), method // ' init failed')
+    call check(.not. allocated(error), method // ' build failed')
     max_err = 0.0_wp
     do i = 1, 50
       t = 0.1_wp * i

@@ -44,10 +44,10 @@ contains
     s%initial_step = 1.0e-4_wp
     y0 = [1.0_wp, 0.0_wp]
     ya = y0; yb = y0
-    call a%init(osc_a, 0.0_wp, y0, s, error)
-    call check(.not. allocated(error), method // ' init a')
-    call b%init(osc_b, 0.0_wp, y0, s, error)
-    call check(.not. allocated(error), method // ' init b')
+    call a%build(osc_a, 0.0_wp, y0, s, error)
+    call check(.not. allocated(error), method // ' build a')
+    call b%build(osc_b, 0.0_wp, y0, s, error)
+    call check(.not. allocated(error), method // ' build b')
     max_err = 0; max_err_stops = 0
     same_at_stops = .true.
     do i = 1, n_stops

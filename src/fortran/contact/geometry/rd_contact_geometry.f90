@@ -1,6 +1,6 @@
 !> Wheel-rail contact geometry of a wheelset: the model chosen per wheelset (strip
 !> interpenetration with real profiles, or knife-edge conical wheels), its parameters fixed
-!> after init, and one pure entry point returning the patches of both wheels.
+!> after build, and one pure entry point returning the patches of both wheels.
 !>
 !> Both models are written for the left wheel; the right wheel is evaluated as the left
 !> wheel of the mirrored pose (y, phi, psi) -> (-y, -phi, -psi) and the result mirrored back
@@ -191,7 +191,7 @@ contains
     sgn = merge(1.0_wp, -1.0_wp, side == SIDE_LEFT)
     select case (geo%model)
     case (CONTACT_MODEL_STRIP)
-      ! the right side's own surfaces when given (flags fixed at init), else the shared left ones
+      ! the right side's own surfaces when given (flags fixed at build), else the shared left ones
       if (side == SIDE_LEFT .or. .not. (geo%own_wheel_right .or. geo%own_rail_right)) then
         call strip_wheel_contact(geo%wheel, geo%rail, sgn * y, z, sgn * phi, sgn * psi, res)
       else if (geo%own_wheel_right .and. geo%own_rail_right) then

@@ -8,13 +8,13 @@ module rd_creep_factory
   use rd_creep_polach, only: creep_polach_build
   implicit none
   private
-  public :: make_creep_law, creep_law_names
+  public :: build_creep_law, creep_law_names
 
   character(len=*), parameter :: creep_law_names = 'linear, fastsim, polach'
 
 contains
 
-  subroutine make_creep_law(name, options, law, error)
+  subroutine build_creep_law(name, options, law, error)
     character(len=*), intent(in) :: name
     type(creep_law_options_t), intent(in) :: options
     class(creep_law_t), allocatable, intent(out) :: law
@@ -27,6 +27,6 @@ contains
       call make_error(error, RD_ERR_INPUT, 'creep law "' // trim(adjustl(name)) // '" unknown; valid names: ' &
                       // creep_law_names)
     end select
-    call error_context(error, 'make_creep_law')
-  end subroutine make_creep_law
+    call error_context(error, 'build_creep_law')
+  end subroutine build_creep_law
 end module rd_creep_factory

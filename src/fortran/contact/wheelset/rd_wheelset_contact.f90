@@ -20,7 +20,7 @@
 !> rotations are frozen, and the moment of the reaction about its CG is carried by those
 !> frozen coordinates (a co-moving rail mass, as SIMPACK's/GENSYS' "rail bodies").
 !>
-!> Parameters are fixed by `init`; `add_forces` allocates nothing and keeps the per-patch
+!> Parameters are fixed by `build`; `add_forces` allocates nothing and keeps the per-patch
 !> results of the last evaluation in `results` for the outputs.
 module rd_wheelset_contact
   use rd_kinds, only: wp
@@ -35,8 +35,9 @@ module rd_wheelset_contact
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration, hertz_damped_force
   use rd_creepage, only: creepage_t, creepages_from_velocities
   use rd_creep_law, only: creep_law_t, creep_force_t, creep_patch_t
+  use rd_creep_factory, only: build_creep_law
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, validate_wheelset_contact_spec, &
-    build_contact_geometry, build_hertz_params, build_creep_law, flange_tip_coordinate, &
+    build_contact_geometry, build_hertz_params, flange_tip_coordinate, &
     field_end_coordinate
   use rd_wheel_contact_result, only: patch_result_t, wheel_result_t, wheelset_result_t
   use rd_track_irregularity, only: track_irregularity_t
@@ -72,7 +73,7 @@ module rd_wheelset_contact
     integer :: history_next = 1            !< the history slot the next new pose pushes out
   end type wheelset_cache_t
 
-  !> Parameters of one wheelset's contact (fixed after init), and its geometry cache.
+  !> Parameters of one wheelset's contact (fixed after build), and its geometry cache.
   type :: wheelset_model_t
     integer :: body = 0
     integer :: rail_body(2) = 0            !< left/right rail body, 0 = rigid rail
@@ -98,7 +99,7 @@ module rd_wheelset_contact
     !> Track irregularities seen by every wheelset (none when not allocated).
     type(track_irregularity_t), allocatable :: irregularity
   contains
-    procedure :: init => wheelset_contact_init
+    procedure :: build => wheelset_contact_build
     procedure :: set_irregularity => wheelset_contact_set_irregularity
     procedure :: add_forces => wheelset_contact_add_forces
     procedure :: evaluate => wheelset_contact_evaluate
@@ -112,7 +113,7 @@ contains
   !> Build the pipeline of every wheelset from its spec. `nbodies` bounds the body indices.
   !> `labels` (e.g. the deck line of each &wheelset) prefix the errors of each wheelset
   !> instead of "wheelset contact N".
-  subroutine wheelset_contact_init(self, specs, nbodies, error, labels)
+  subroutine wheelset_contact_build(self, specs, nbodies, error, labels)
     class(wheelset_contact_t), intent(inout) :: self
     type(wheelset_contact_spec_t), intent(in) :: specs(:)
     integer, intent(in) :: nbodies
@@ -165,7 +166,7 @@ contains
       if (allocated(error)) return
       call build_hertz_params(spec, m%hertz, error)
       if (allocated(error)) return
-      call build_creep_law(spec, m%law, error)
+      call build_creep_law(spec%creep_law, spec%creep_options, m%law, error)
       if (allocated(error)) return
       m%body = spec%body
       m%rail_body = spec%rail_body
@@ -180,11 +181,11 @@ contains
         m%s_field_end = [field_end_coordinate(m%geo, SIDE_LEFT), field_end_coordinate(m%geo, SIDE_RIGHT)]
       end if
     end subroutine build_one
-  end subroutine wheelset_contact_init
+  end subroutine wheelset_contact_build
 
   !> Rails displaced by track irregularities (docs/theory_track.md): each wheelset's contact
   !> sees both rails offset by `irregularity%rail_offsets` at its track position. Call after
-  !> init, before the first evaluation.
+  !> build, before the first evaluation.
   subroutine wheelset_contact_set_irregularity(self, irregularity)
     class(wheelset_contact_t), intent(inout) :: self
     type(track_irregularity_t), intent(in) :: irregularity

@@ -15,13 +15,12 @@ module rd_wheelset_contact_spec
                                  build_table_contact, SIDE_LEFT, SIDE_RIGHT
   use rd_contact_table, only: contact_table_options_t
   use rd_hertz, only: hertz_params_t, hertz_init
-  use rd_creep_law, only: creep_law_t, creep_law_options_t
-  use rd_creep_factory, only: make_creep_law
+  use rd_creep_law, only: creep_law_options_t
   use rd_creepage, only: default_creep_v0
   implicit none
   private
   public :: wheelset_contact_spec_t, load_contact_profiles, build_contact_geometry, build_hertz_params
-  public :: build_creep_law, validate_wheelset_contact_spec, flange_tip_coordinate, field_end_coordinate
+  public :: validate_wheelset_contact_spec, flange_tip_coordinate, field_end_coordinate
   public :: SIDE_LEFT, SIDE_RIGHT, CONTACT_MODEL_NAMES
 
   character(len=*), parameter :: CONTACT_MODEL_NAMES = '''profile'' or ''knife_edge'''
@@ -91,7 +90,7 @@ module rd_wheelset_contact_spec
 
 contains
 
-  !> Check the numbers that no downstream init checks; `nbodies` bounds `body`.
+  !> Check the numbers that no downstream build checks; `nbodies` bounds `body`.
   subroutine validate_wheelset_contact_spec(spec, nbodies, error)
     type(wheelset_contact_spec_t), intent(in) :: spec
     integer, intent(in) :: nbodies
@@ -242,13 +241,6 @@ contains
                     max_equivalent_radius=spec%max_equivalent_radius)
     if (allocated(error)) call error_context(error, 'build_hertz_params')
   end subroutine build_hertz_params
-
-  subroutine build_creep_law(spec, law, error)
-    type(wheelset_contact_spec_t), intent(in) :: spec
-    class(creep_law_t), allocatable, intent(out) :: law
-    type(error_t), allocatable, intent(out) :: error
-    call make_creep_law(spec%creep_law, spec%creep_options, law, error)
-  end subroutine build_creep_law
 
   !> Wheel profile coordinate s of the flange tip (largest radius) of the strip geometry's
   !> wheel on `side` (default left; the right wheel's own profile when it has one); a

@@ -14,7 +14,7 @@ program test_creep_fastsim_smooth
   use rd_kinds, only: wp
   use rd_error, only: error_t
   use rd_creep_law
-  use rd_creep_factory, only: make_creep_law
+  use rd_creep_factory, only: build_creep_law
   use rd_sweep_smoothness, only: smoothness_feature_t, find_jumps_and_kinks
   use kalker_exact_reference, only: kalker_exact_forces, scene_patch_count, scene_name, scene, scene_grid, &
                                     scene_is_flange
@@ -34,10 +34,10 @@ program test_creep_fastsim_smooth
     0.0_wp, 0.0_wp, 0.1_wp, 1.0e-3_wp, 1.0e-3_wp, 0.1_wp], [3, 5])
 
   options%grid_nx = 10; options%grid_ny = 10
-  call make_creep_law('fastsim', options, classic, error)
+  call build_creep_law('fastsim', options, classic, error)
   if (allocated(error)) error stop 1
   options%saturation_width = 0.2_wp
-  call make_creep_law('fastsim', options, smooth, error)
+  call build_creep_law('fastsim', options, smooth, error)
   if (allocated(error)) error stop 1
   print '(a)', 'laws: ' // classic%name() // ' | ' // smooth%name()
 

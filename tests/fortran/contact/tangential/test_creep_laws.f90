@@ -6,7 +6,7 @@ program test_creep_laws
   use rd_kinds, only: wp
   use rd_error, only: error_t, RD_ERR_INPUT
   use rd_creep_law
-  use rd_creep_factory, only: make_creep_law
+  use rd_creep_factory, only: build_creep_law
   use rd_kalker_coefficients, only: kalker_coefficients
   use rd_test_support, only: check_close, fail, test_summary
   implicit none
@@ -51,25 +51,25 @@ program test_creep_laws
   call check_close(c33, 0.446_wp, 1.0e-12_wp, 'C33(b/a=.3,.5)')
 
   ! --- laws from the factory
-  call make_creep_law('linear', options, linear, error); call must_ok()
+  call build_creep_law('linear', options, linear, error); call must_ok()
   options%saturation = 'shen_hedrick_elkins'
-  call make_creep_law('linear', options, linear_she, error); call must_ok()
+  call build_creep_law('linear', options, linear_she, error); call must_ok()
   options%grid_nx = 200; options%grid_ny = 200
-  call make_creep_law('fastsim', options, fastsim, error); call must_ok()
+  call build_creep_law('fastsim', options, fastsim, error); call must_ok()
   options%grid_nx = 20; options%grid_ny = 20
-  call make_creep_law('fastsim', options, fastsim_coarse, error); call must_ok()
-  call make_creep_law('polach', options, polach, error); call must_ok()
-  call make_creep_law('kalker-exact', options, law, error)
+  call build_creep_law('fastsim', options, fastsim_coarse, error); call must_ok()
+  call build_creep_law('polach', options, polach, error); call must_ok()
+  call build_creep_law('kalker-exact', options, law, error)
   if (.not. allocated(error)) then
     call fail('unknown law must fail')
   else if (error%code /= RD_ERR_INPUT .or. index(error%message, 'fastsim') == 0) then
     call fail('unknown law: RD_ERR_INPUT listing the valid names expected, got: ' // error%message)
   end if
   options%grid_nx = 0
-  call make_creep_law('fastsim', options, law, error)
+  call build_creep_law('fastsim', options, law, error)
   if (.not. allocated(error)) call fail('grid 0 must fail')
   options%grid_nx = 20; options%bound = 'square'
-  call make_creep_law('fastsim', options, law, error)
+  call build_creep_law('fastsim', options, law, error)
   if (.not. allocated(error)) call fail('unknown bound must fail')
   options%bound = 'parabolic'
 
@@ -117,7 +117,7 @@ program test_creep_laws
     ! strip (midpoint) rule in y leaves < 2/n^2 (half-step start, oracles.md)
     do n = 1, size(grids)
       options%grid_nx = grids(n); options%grid_ny = grids(n)
-      call make_creep_law('fastsim', options, law, error); call must_ok()
+      call build_creep_law('fastsim', options, law, error); call must_ok()
       call law%compute(patch, cr(1.0e-7_wp * unit(k)), f)
       if (k == 1) call check_close(f%fx, f_lin%fx, 2.0_wp / grids(n)**2, 'fastsim n=' // itoa(grids(n)) // ' Fx')
       if (k == 2) call check_close(f%fy, f_lin%fy, 2.0_wp / grids(n)**2, 'fastsim n=' // itoa(grids(n)) // ' Fy')
@@ -180,7 +180,7 @@ program test_creep_laws
   ! --- FASTSIM elliptic (Hertz) traction bound: same linear limit, saturates at mu N,
   ! and differs from the parabolic bound in the partly-slipping range
   options%bound = 'elliptic'; options%grid_nx = 40; options%grid_ny = 40
-  call make_creep_law('fastsim', options, law, error); call must_ok()
+  call build_creep_law('fastsim', options, law, error); call must_ok()
   call law%compute(patch, cr([1.0e-7_wp, 0.0_wp, 0.0_wp]), f)
   call linear%compute(patch, cr([1.0e-7_wp, 0.0_wp, 0.0_wp]), f_lin)
   call check_close(f%fx, f_lin%fx, 2.0_wp / 40**2, 'fastsim elliptic linear limit')
@@ -188,7 +188,7 @@ program test_creep_laws
   call check_close(hypot(f%fx, f%fy), lim, 0.01_wp, 'fastsim elliptic saturation')
   call law%compute(patch, cr([1.0e-3_wp, 0.0_wp, 0.0_wp]), f)
   options%bound = 'parabolic'
-  call make_creep_law('fastsim', options, law, error); call must_ok()
+  call build_creep_law('fastsim', options, law, error); call must_ok()
   call law%compute(patch, cr([1.0e-3_wp, 0.0_wp, 0.0_wp]), f2)
   if (.not. abs(f%fx / f2%fx - 1.0_wp) > 0.005_wp) call fail('elliptic and parabolic bounds must differ')
   options%grid_nx = 20; options%grid_ny = 20
@@ -196,20 +196,20 @@ program test_creep_laws
   ! --- Polach 2005 extension: k_A, k_S scale the initial slope by (k_A + k_S)/2
   ! (F ~ 2 mu N/pi (k_A + k_S) eps); the friction falls to A mu0 at large slip velocity
   options%polach_ka = 0.5_wp; options%polach_ks = 1.0_wp
-  call make_creep_law('polach', options, law, error); call must_ok()
+  call build_creep_law('polach', options, law, error); call must_ok()
   call law%compute(patch, cr([1.0e-7_wp, 0.0_wp, 0.0_wp]), f)
   call linear%compute(patch, cr([1.0e-7_wp, 0.0_wp, 0.0_wp]), f_lin)
   call check_close(f%fx, 0.75_wp * f_lin%fx, 1.0e-6_wp, 'polach k_A slope')
   options%polach_ka = 1.0_wp
   options%polach_friction_ratio = 0.4_wp; options%polach_friction_decay = 0.6_wp
-  call make_creep_law('polach', options, law, error); call must_ok()
+  call build_creep_law('polach', options, law, error); call must_ok()
   patch%rolling_speed = 10.0_wp          ! slip velocity w = 10 m/s * 0.5 = 5 m/s
   call law%compute(patch, cr([0.5_wp, 0.0_wp, 0.0_wp]), f)
   call check_close(abs(f%fx), patch%normal_force * 0.3_wp * (0.6_wp * exp(-0.6_wp * 5.0_wp) + 0.4_wp), 0.01_wp, 'polach friction decay')
   patch%rolling_speed = 0.0_wp
   options%polach_friction_ratio = 1.0_wp; options%polach_friction_decay = 0.0_wp
   options%polach_ka = 1.5_wp
-  call make_creep_law('polach', options, law, error)
+  call build_creep_law('polach', options, law, error)
   if (.not. allocated(error)) call fail('k_A > 1 must be refused')
   options%polach_ka = 1.0_wp
 

@@ -25,7 +25,7 @@ program test_creep_spin_exact
   use rd_kinds, only: wp
   use rd_error, only: error_t
   use rd_creep_law
-  use rd_creep_factory, only: make_creep_law
+  use rd_creep_factory, only: build_creep_law
   use rd_kalker_coefficients, only: kalker_coefficients
   use kalker_exact_reference, only: kalker_exact_forces, scene_patch_count, scene_name, scene, scene_grid, &
                                     scene_is_flange
@@ -61,9 +61,9 @@ program test_creep_spin_exact
 
   ! --- 2. Polach's linear range with spin: Fx = -G a b C11 xi
   options%grid_nx = 10; options%grid_ny = 10
-  call make_creep_law('polach', options, polach, error)
+  call build_creep_law('polach', options, polach, error)
   if (allocated(error)) error stop 1
-  call make_creep_law('fastsim', options, fastsim, error)
+  call build_creep_law('fastsim', options, fastsim, error)
   if (allocated(error)) error stop 1
   patch = creep_patch_t(a=6.0e-3_wp, b=4.0e-3_wp, normal_force=5.0e4_wp, shear_modulus=82.0e9_wp, &
                           poisson=0.28_wp, friction=0.3_wp)

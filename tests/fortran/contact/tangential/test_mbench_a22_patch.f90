@@ -14,7 +14,7 @@ program test_mbench_a22_patch
   use rd_kinds, only: wp
   use rd_error, only: error_t
   use rd_creep_law
-  use rd_creep_factory, only: make_creep_law
+  use rd_creep_factory, only: build_creep_law
   use test_files, only: reference_path
   use rd_test_support, only: fail, test_summary
   implicit none
@@ -26,9 +26,9 @@ program test_mbench_a22_patch
 
   n_checked = 0; worst = 0.0_wp; n_flange = 0; worst_flange = 0.0_wp
   options%grid_nx = 40; options%grid_ny = 40
-  call make_creep_law('fastsim', options, fastsim, error)
+  call build_creep_law('fastsim', options, fastsim, error)
   if (allocated(error)) error stop 1
-  call make_creep_law('polach', options, polach, error)
+  call build_creep_law('polach', options, polach, error)
   if (allocated(error)) error stop 1
 
   call check_file(reference_path('mbench_a22/mbench_a22_left.ref_out'), 'left')

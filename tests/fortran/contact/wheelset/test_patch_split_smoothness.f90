@@ -39,7 +39,7 @@ program test_patch_split_smoothness
   spec%wheel_profile = 's1002'
   spec%rail_profile = '60e1'
   spec%friction = 0.4_wp
-  call ws%init([spec], 1, error)
+  call ws%build([spec], 1, error)
   if (allocated(error)) error stop error%message
   tp%a = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
   tp%dr = [1.0_wp, 0.0_wp, 0.0_wp]

@@ -58,7 +58,7 @@ program test_wheelset_creepage
   spec4 = spec
   spec4%body = 4
   spec4%contact_damping = 1.0e5_wp
-  call ws%init([spec, spec2, spec3, spec4], 4, error)
+  call ws%build([spec, spec2, spec3, spec4], 4, error)
   if (allocated(error)) error stop error%message
   g = atan(lambda)
 

@@ -50,7 +50,7 @@ program test_wheelset_dynamics
   spec%nominal_radius = r0
   spec%creep_law = 'linear'
   spec%contact_damping = 3.0e5_wp     ! ~10% of critical on the vertical Hertz mode
-  call ws%init([spec], 1, error)
+  call ws%build([spec], 1, error)
   if (allocated(error)) error stop error%message
   z0 = static_height()
 
@@ -127,7 +127,7 @@ contains
     body%frozen = [.true., .false., .false., .false., .false., .true.]
     body%q0 = [0.0_wp, y0, z0, 0.0_wp, 0.0_wp, 0.0_wp]
     tp => track
-    call mb%init([body], [0.0_wp], tp, constant_speed(v), error)
+    call mb%build([body], [0.0_wp], tp, constant_speed(v), error)
     if (allocated(error)) error stop error%message
     restraint%body = 1
     restraint%vertical_load = load

@@ -61,7 +61,7 @@ program test_wheelset_energy
   spec0 = spec
   spec0%body = 2
   spec0%friction = 0
-  call ws%init([spec, spec0], 2, error)
+  call ws%build([spec, spec0], 2, error)
   if (allocated(error)) error stop error%message
 
   call normal_motion_is_no_slip()

@@ -46,7 +46,7 @@ program test_wheelset_errors
   bad = knife; bad%hertz_method = 'exact'
   call expect_init(bad, RD_ERR_INPUT, 'hertz_method', 'unknown Hertz method')
 
-  call ws%init([knife, prof], 2, error)
+  call ws%build([knife, prof], 2, error)
   if (allocated(error)) error stop error%message
 
   ! ---- run time
@@ -89,7 +89,7 @@ contains
     integer, intent(in) :: code
     character(len=*), intent(in) :: needle, what
     type(wheelset_contact_t) :: w
-    call w%init([spec], 2, error)
+    call w%build([spec], 2, error)
     if (.not. allocated(error)) then
       call check(.false., what // ': no error')
       return

@@ -42,7 +42,7 @@ program test_wheelset_generalized_forces
   spec%rail_profile = '60e1'
   spec%nominal_radius = r0
   spec%creep_law = 'fastsim'
-  call ws%init([spec], 1, error)
+  call ws%build([spec], 1, error)
   if (allocated(error)) error stop error%message
   curve%kappa = 1.0_wp / 300.0_wp
 

@@ -45,7 +45,7 @@ program test_wheelset_geometry_cache
   q(:, 6) = q(:, 1); q(3, 6) = q(3, 6) - 1.0e-9_wp            ! vertical perturbation
   qd(:, 6) = qd(:, 1)
 
-  call ws%init([spec], 1, error)
+  call ws%build([spec], 1, error)
   if (allocated(error)) error stop error%message
   do k = 1, 6
     call compare(k)
@@ -62,7 +62,7 @@ contains
     kin = pose_kinematics(track, 0.0_wp, v, q(:, k), qd(:, k))
     call ws%evaluate(1, 0.0_wp, kin, f, m, error)
     if (allocated(error)) error stop error%message
-    call fresh%init([spec], 1, error)
+    call fresh%build([spec], 1, error)
     if (allocated(error)) error stop error%message
     call fresh%evaluate(1, 0.0_wp, kin, f0, m0, error)
     if (allocated(error)) error stop error%message

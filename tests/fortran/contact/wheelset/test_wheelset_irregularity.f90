@@ -154,9 +154,9 @@ contains
     real(wp), parameter :: v = 20.0_wp, a = 1.2e-3_wp, lvl = 2.0e-4_wp
     real(wp) :: values(4, 2), q(6), qd(6), f(3), m(3), fr(3), mr(3), fz(3), mz(3)
     logical :: ok_rail
-    call with_irr%init([model_spec(model)], 1, error)
+    call with_irr%build([model_spec(model)], 1, error)
     if (allocated(error)) error stop error%message
-    call nominal%init([model_spec(model)], 1, error)
+    call nominal%build([model_spec(model)], 1, error)
     if (allocated(error)) error stop error%message
     values = 0
     values(1, :) = a       ! alignment

@@ -102,7 +102,7 @@ program test_wheelset_mbench_a22
   spec%poisson = 0.28_wp
   spec%friction = 0.3_wp
   spec%creep_law = 'fastsim'
-  call ws%init([spec], 1, error)
+  call ws%build([spec], 1, error)
   if (allocated(error)) error stop error%message
 
   floor_c = [5.0e-5_wp, 1.0e-5_wp, 2.0e-3_wp]

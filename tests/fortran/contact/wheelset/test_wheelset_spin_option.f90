@@ -14,7 +14,7 @@ program test_wheelset_spin_option
   use rd_rigid_contact, only: rigid_contact
   use rd_creepage, only: creepage_t
   use rd_creep_law, only: creep_law_t, creep_patch_t, creep_force_t, creep_law_options_t
-  use rd_creep_factory, only: make_creep_law
+  use rd_creep_factory, only: build_creep_law
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t
   use rd_wheelset_contact, only: wheelset_contact_t
   use wheelset_test_support, only: circle_track_t, pose_kinematics
@@ -41,9 +41,9 @@ program test_wheelset_spin_option
   spec(2) = spec(1)
   spec(2)%body = 2
   spec(2)%spin_creep = .false.
-  call ws%init(spec, 2, error)
+  call ws%build(spec, 2, error)
   if (allocated(error)) error stop error%message
-  call make_creep_law('fastsim', creep_law_options_t(), law, error)
+  call build_creep_law('fastsim', creep_law_options_t(), law, error)
   if (allocated(error)) error stop error%message
 
   do i = 1, 2

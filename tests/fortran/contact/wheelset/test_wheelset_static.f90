@@ -59,7 +59,7 @@ contains
     spec%rail_profile = '60e1'
     spec%nominal_radius = r0
     spec%creep_law = 'linear'
-    call ws%init([spec], 1, error)
+    call ws%build([spec], 1, error)
     if (allocated(error)) error stop error%message
 
     weight = mass * standard_gravity
