@@ -38,7 +38,6 @@ module rd_force_element
     procedure :: state_units => no_state_units
     procedure :: initial_states => no_initial_states
     procedure :: preload_count => no_preload
-    procedure :: get_preload => no_get_preload
     procedure :: set_preload => no_set_preload
     procedure :: reset_free_length => keep_free_length
     procedure :: check_bodies
@@ -85,11 +84,6 @@ contains
     class(force_element_t), intent(in) :: self
     n = 0
   end function no_preload
-
-  pure subroutine no_get_preload(self, p)
-    class(force_element_t), intent(in) :: self
-    real(wp), intent(out) :: p(:)
-  end subroutine no_get_preload
 
   pure subroutine no_set_preload(self, p)
     class(force_element_t), intent(inout) :: self

@@ -32,7 +32,6 @@ module rd_linear_spring_damper
   contains
     procedure :: evaluate => linear_evaluate
     procedure :: preload_count => linear_preload_count
-    procedure :: get_preload => linear_get_preload
     procedure :: set_preload => linear_set_preload
     procedure :: reset_free_length => linear_reset_free_length
   end type linear_spring_damper_t
@@ -60,12 +59,6 @@ contains
     class(linear_spring_damper_t), intent(in) :: self
     n = count(self%preload_free)
   end function linear_preload_count
-
-  pure subroutine linear_get_preload(self, p)
-    class(linear_spring_damper_t), intent(in) :: self
-    real(wp), intent(out) :: p(:)
-    p = pack(self%preload, self%preload_free)
-  end subroutine linear_get_preload
 
   pure subroutine linear_set_preload(self, p)
     class(linear_spring_damper_t), intent(inout) :: self

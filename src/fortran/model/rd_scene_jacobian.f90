@@ -40,8 +40,7 @@ module rd_scene_jacobian
 
   !> The coupling graph of a multibody system.
   type :: body_coupling_t
-    integer :: n_nodes = 0
-    integer :: n_bodies = 0                  !< nodes 1..n_bodies are the bodies
+    integer :: n_nodes = 0                   !< the bodies (nodes 1..number of bodies), then the elements with states
     logical, allocatable :: adjacent(:, :)   !< (n_nodes, n_nodes), symmetric, true on the diagonal
     integer, allocatable :: state_start(:)   !< (n_nodes + 1): node a owns states(state_start(a):state_start(a+1)-1)
     integer, allocatable :: states(:)        !< state indices (q slots, then nu slots, then element states)
@@ -69,7 +68,6 @@ contains
         element_node(e) = node
       end if
     end do
-    coupling%n_bodies = nb
     coupling%n_nodes = node
     allocate (coupling%adjacent(node, node), source=.false.)
     do i = 1, node

@@ -45,7 +45,6 @@ module rd_coloured_jacobian
     real(wp) :: min_increment = 0
   contains
     procedure :: in_pattern
-    procedure :: nonzero_count
   end type jacobian_sparsity_t
 
 contains
@@ -148,12 +147,6 @@ contains
     integer, intent(in) :: i, j
     in_pattern = any(self%rows(self%row_start(j):self%row_start(j + 1) - 1) == i)
   end function in_pattern
-
-  pure integer function nonzero_count(self)
-    class(jacobian_sparsity_t), intent(in) :: self
-    nonzero_count = 0
-    if (allocated(self%rows)) nonzero_count = size(self%rows)
-  end function nonzero_count
 
   !> CVODE's floor on the increments: 1000 |h| uround n ||fy||_WRMS(ewt), or 1 when the
   !> weighted norm of f is zero (cvLsDenseDQJac).

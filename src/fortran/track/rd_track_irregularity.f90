@@ -46,7 +46,6 @@ module rd_track_irregularity
   contains
     procedure :: components => irregularity_components
     procedure :: rail_offsets => irregularity_rail_offsets
-    procedure :: first_sigma, last_sigma
   end type track_irregularity_t
 
 contains
@@ -184,17 +183,5 @@ contains
     offset(1, 2) = c(IRR_ALIGNMENT) - 0.5_wp * c(IRR_GAUGE)
     offset(2, 2) = c(IRR_LEVEL) - 0.5_wp * c(IRR_CROSS_LEVEL)
   end function irregularity_rail_offsets
-
-  pure real(wp) function first_sigma(self)
-    class(track_irregularity_t), intent(in) :: self
-    first_sigma = 0
-    if (allocated(self%sigma)) first_sigma = self%sigma(1)
-  end function first_sigma
-
-  pure real(wp) function last_sigma(self)
-    class(track_irregularity_t), intent(in) :: self
-    last_sigma = 0
-    if (allocated(self%sigma)) last_sigma = self%sigma(size(self%sigma))
-  end function last_sigma
 
 end module rd_track_irregularity

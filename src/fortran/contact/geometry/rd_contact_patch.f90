@@ -6,7 +6,7 @@ module rd_contact_patch
   implicit none
   private
   public :: patch_geometry_t, wheel_contact_t, MAX_PATCHES
-  public :: PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK, PATCH_FLANGE_SPRING, patch_kind_name
+  public :: PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK, PATCH_FLANGE_SPRING
   public :: mirror_wheel_contact
 
   integer, parameter :: MAX_PATCHES = 4
@@ -54,18 +54,6 @@ module rd_contact_patch
   end type wheel_contact_t
 
 contains
-
-  pure function patch_kind_name(kind) result(name)
-    integer, intent(in) :: kind
-    character(len=:), allocatable :: name
-    select case (kind)
-    case (PATCH_TREAD); name = 'tread'
-    case (PATCH_FLANGE); name = 'flange'
-    case (PATCH_FLANGE_BACK); name = 'flange-back'
-    case (PATCH_FLANGE_SPRING); name = 'flange-spring'
-    case default; name = 'unknown'
-    end select
-  end function patch_kind_name
 
   !> Mirror a left-wheel result into the right wheel (reflection Y -> -Y of track and
   !> wheelset frames); profile coordinates are side independent and stay.

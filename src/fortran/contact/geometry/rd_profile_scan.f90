@@ -19,7 +19,6 @@ module rd_profile_scan
   !> by decreasing penetration (patch 1 is the main contact). Unused patches hold 0.
   type :: profile_scan_t
     integer :: n = 0
-    real(wp) :: lowering = 0                !< wheelset lowered below rigid contact [m]
     real(wp), allocatable :: y(:)           !< lateral shift [m] (+ left)
     real(wp), allocatable :: yaw(:)         !< yaw [rad]
     real(wp), allocatable :: z(:)           !< height of the wheelset centre at rigid contact [m]
@@ -59,7 +58,6 @@ contains
     end if
     n = 2 * nint(y_max / step) + 1
     scan%n = n
-    scan%lowering = lowering
     allocate (scan%y(n), scan%yaw(n), scan%z(n), scan%roll(n), scan%n_patches(2, n), scan%delta_r(n))
     allocate (scan%s_wheel(MAX_PATCHES, 2, n), scan%u_rail(MAX_PATCHES, 2, n), scan%y_rail(MAX_PATCHES, 2, n), &
               scan%rolling_radius(MAX_PATCHES, 2, n), scan%contact_angle(MAX_PATCHES, 2, n))

@@ -14,7 +14,7 @@ module rd_strip_contact
   use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t, locate
   use rd_contact_patch, only: patch_geometry_t, wheel_contact_t, MAX_PATCHES, &
     PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
-  use rd_line_cone, only: line_cone_roots
+  use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
   implicit none
   private
   public :: strip_wheel_contact
@@ -621,50 +621,16 @@ contains
     end subroutine line_depth
 
     !> Deepest point of the line (t0, rho, py0) on cone j: rd_line_cone's
-    !> line_cone_max_depth_slope (its documentation) with the cone slope of the wheel
-    !> surface, operation for operation; found = .false. where no cone (y(j+1) <= y(j)).
+    !> line_cone_max_depth_slope with the cone slope of the wheel surface; found = .false.
+    !> where no cone (y(j+1) <= y(j)).
     pure subroutine cone_depth(j, t0, rho, py0, found, dep, tau)
       integer, intent(in) :: j
       real(wp), intent(in) :: t0, rho, py0
       logical, intent(out) :: found
       real(wp), intent(out) :: dep, tau
-      real(wp) :: kc, c, ta, tb, tmp, py, y1, y2, dy
-      logical :: inside
       found = .false.; dep = -huge(1.0_wp); tau = 0
-      y1 = wy(j); y2 = wy(j + 1)
-      if (.not. (y2 > y1)) return
-      kc = wcone(j)
-      dy = d(2)
-      c = kc * dy
-      inside = .false.
-      if (dy /= 0 .and. abs(c) < a) then
-        tau = c * rho / (a * sqrt(a**2 - c**2))
-        py = py0 + dy * tau
-        inside = py > y1 + inside_margin .and. py < y2 - inside_margin
-      end if
-      if (.not. inside) then
-        if (dy /= 0) then
-          ta = (y1 - py0) / dy
-          tb = (y2 - py0) / dy
-          if (ta > tb) then
-            tmp = ta; ta = tb; tb = tmp
-          end if
-        else
-          if (py0 < y1 .or. py0 > y2) return
-          ta = -huge(1.0_wp); tb = huge(1.0_wp)
-        end if
-        if (abs(c) < a) then
-          tau = c * rho / (a * sqrt(a**2 - c**2))
-        else if (c > 0) then
-          tau = tb
-        else
-          tau = ta
-        end if
-        tau = min(max(tau, ta), tb)
-      end if
-      found = .true.
-      dep = wr(j) + kc * (py0 + dy * tau - y1) - sqrt(rho**2 + (a * tau)**2)
-      if (t0 /= t0) dep = t0   ! propagate a NaN pose instead of hiding it
+      if (.not. (wy(j + 1) > wy(j))) return
+      call line_cone_max_depth_slope(t0, rho, py0, a, d(2), wy(j), wr(j), wy(j + 1), wcone(j), found, dep, tau)
     end subroutine cone_depth
 
   end subroutine strip_depths

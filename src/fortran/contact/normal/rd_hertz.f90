@@ -56,7 +56,6 @@ module rd_hertz
     real(wp) :: theta = 0.0_wp          !< cos(theta) = |B - A|/(A + B) [rad]
     real(wp) :: m = 1.0_wp              !< Hertz coefficient of the major semi-axis
     real(wp) :: n = 1.0_wp              !< Hertz coefficient of the minor semi-axis
-    real(wp) :: eccentricity = 0.0_wp   !< e of the ellipse, n/m = sqrt(1 - e^2)
     integer :: warning = 0              !< HERTZ_WARN_* bits
   end type hertz_patch_t
 
@@ -257,7 +256,6 @@ contains
       patch%m = (2.0_wp * e_second / (pi * kprime**2))**(1.0_wp / 3.0_wp)
       patch%n = patch%m * kprime
     end if
-    patch%eccentricity = sqrt(max(0.0_wp, (1.0_wp - kprime) * (1.0_wp + kprime)))
     ! delta = K(e) / (2 pi m) (3N/E*)^(2/3) (4(A+B))^(1/3)  =>  N = k_h delta^(3/2)
     patch%k_hertz = params%e_star / 3.0_wp * (2.0_wp * pi * patch%m / k_first)**1.5_wp &
                     / sqrt(4.0_wp * patch%sum_ab)
