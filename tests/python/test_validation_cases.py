@@ -25,12 +25,6 @@ def validation_out(tmp_path_factory, build_dir):
     return out
 
 
-@pytest.fixture(scope="session")
-def finished():
-    """Results of cases already run in this session (Polach compares with FASTSIM)."""
-    return {}
-
-
 # Known failures, visible in every test report (xfail), with the reason; the issue that asks
 # for these cases stays open until they pass. strict=True: a case that starts passing turns
 # the test red, so the mark cannot outlive the problem.
@@ -40,9 +34,7 @@ KNOWN_FAILURES: dict = {}
 @pytest.mark.parametrize("name", [pytest.param(n, marks=[pytest.mark.validation, getattr(pytest.mark, n)]
                                                   + ([KNOWN_FAILURES[n]] if n in KNOWN_FAILURES else []))
                                   for n in V.CASES])
-def test_validation_case(name, validation_out, finished):
-    res = V.run_case(name, validation_out, others=finished)
-    if res.results_path:
-        finished[name] = Path(res.results_path)
+def test_validation_case(name, validation_out):
+    res = V.run_case(name, validation_out)
     passed = res.passed        # (the CaseResult's repr would carry the plots)
     assert passed, res.summary()

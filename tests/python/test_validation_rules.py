@@ -903,7 +903,7 @@ def test_identify_creep_coefficients_with_spin(make_results_file, tmp_path):
     path = make_results_file("r.h5", t, series)
     from raildyn import Results
     with Results(path) as r:
-        ctx = V.Context(V.CASES["tgv_bogie_straight_20"], V.CaseResult("x"), r, tmp_path, None, False, {})
+        ctx = V.Context(V.CASES["tgv_bogie_straight_20"], V.CaseResult("x"), r, tmp_path, None, False)
         c = V.identify_knife_edge_contact(ctx, ["w1", "w2"], 0.5)
         # the identification that ignores the loads is biased by the moving spin force
         sums = [ctx.get(f"wheelsets/w{k}/left/patch1:{ch}") + ctx.get(f"wheelsets/w{k}/right/patch1:{ch}")

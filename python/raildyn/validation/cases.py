@@ -16,20 +16,20 @@ from .signals import compare_band_curve
 from .tgv import evaluate_tgv
 
 _TGV_BASE = ("bodies/ws1/position_track:y", "bodies/ws1/position_track:yaw", "bodies/ws2/position_track:y")
+_MANCHESTER_BASE = ("bodies/ws1/position_track:y", "bodies/ws1/position_track:yaw",
+                    "wheelsets/w1/left/wheel:force_lateral_Y", "wheelsets/w1/left/wheel:force_vertical_Q")
 
 CASES: dict[str, Case] = {c.name: c for c in [
     Case("manchester_v1_tc1", "manchester_v1_tc1.nml", "Manchester Benchmark Vehicle 1, Track Case 1",
          "Quasi-static curving in R 150 m with 100 mm cant at 4.4 m/s: wheelset lateral shift and yaw, "
          "wheel forces against the five packages of thesis tables 5.9-5.11, and quiet (no contact "
          "loss, wheel loads steady within 1 kN in the window; issue 12).", evaluate_manchester_quiet,
-         baseline_channels=("bodies/ws1/position_track:y", "bodies/ws1/position_track:yaw",
-                            "wheelsets/w1/left/wheel:force_lateral_Y", "wheelsets/w1/left/wheel:force_vertical_Q")),
+         baseline_channels=_MANCHESTER_BASE),
     Case("manchester_v1_tc1_tables", "manchester_v1_tc1_tables.nml",
          "Manchester Benchmark Vehicle 1, Track Case 1, contact tables",
          "The acceptance scene with its profile contact evaluated from pre-computed tables of the strip "
          "model (docs/theory_contact_geometry.md section 10): the same rule.", evaluate_manchester,
-         baseline_channels=("bodies/ws1/position_track:y", "bodies/ws1/position_track:yaw",
-                            "wheelsets/w1/left/wheel:force_lateral_Y", "wheelsets/w1/left/wheel:force_vertical_Q")),
+         baseline_channels=_MANCHESTER_BASE),
     Case("tgv_wheelset", "tgv_wheelset.nml", "TGV 001 single wheelset, straight, 20 m/s",
          "Knife-edge wheelset on primary springs to the track frame: the 1 mm disturbance decays.",
          evaluate_tgv, baseline_channels=_TGV_BASE[:2]),
@@ -95,8 +95,7 @@ def _attach_band_checks(ctx: Context) -> None:
 
 
 def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | None = None,
-             reuse: bool = False, others: dict[str, Path] | None = None,
-             given: str | os.PathLike | None = None) -> CaseResult:
+             reuse: bool = False, given: str | os.PathLike | None = None) -> CaseResult:
     """Run (or reuse) one case and evaluate it. Never raises for physics or run problems:
     they are reported in the CaseResult (``error`` and failed checks).
     ``given``: evaluate this results file instead of running the case's deck (e.g. one run of
@@ -111,14 +110,8 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
     except (OSError, CaseError) as exc:
         res.error = f"deck {case.deck_path}: {exc}"
         return res
-    others = dict(others or {})
     results_path = out_dir / f"{name}.h5"
     try:
-        for dep in case.needs:
-            p = others.get(dep) or out_dir / f"{dep}.h5"
-            if not p.exists():
-                run_deck(CASES[dep].deck_path, p, exe)
-            others[dep] = p
         r = None
         if case.run and given is not None:
             given = Path(given)
@@ -153,7 +146,7 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
                         for k, v in sorted(meta["solver"].items())))
             else:
                 res.status = "variants only"
-            ctx = Context(case, res, r, out_dir, exe, reuse, others)
+            ctx = Context(case, res, r, out_dir, exe, reuse)
             try:
                 if r is not None:
                     _check_contact_outputs(ctx)
@@ -174,24 +167,7 @@ def run_case(name: str, out_dir: str | os.PathLike, exe: str | os.PathLike | Non
 
 def run_cases(names: Sequence[str], out_dir: str | os.PathLike, exe: str | os.PathLike | None = None,
               reuse: bool = False, given: dict[str, Path] | None = None) -> list[CaseResult]:
-    """Run and evaluate the cases (dependencies first). ``given``: case name -> results file
-    to evaluate instead of running that case's deck."""
-    out_dir = Path(out_dir)
+    """Run and evaluate the cases (each once, in the order given). ``given``: case name ->
+    results file to evaluate instead of running that case's deck."""
     given = dict(given or {})
-    done: dict[str, Path] = {}
-    results = []
-    # dependencies first
-    order = []
-    for n in names:
-        for d in CASES[n].needs:
-            if d not in order:
-                order.append(d)
-        if n not in order:
-            order.append(n)
-    for n in order:
-        r = run_case(n, out_dir, exe, reuse, done, given.get(n))
-        if r.results_path:
-            done[n] = Path(r.results_path)
-        if n in names:
-            results.append(r)
-    return results
+    return [run_case(n, out_dir, exe, reuse, given.get(n)) for n in dict.fromkeys(names)]

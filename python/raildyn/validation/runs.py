@@ -156,9 +156,9 @@ class Context:
     """What an evaluation function works with: the case's results and helpers."""
 
     def __init__(self, case: "Case", result: CaseResult, results: Results | None, out_dir: Path,
-                 exe: str | os.PathLike | None, reuse: bool, others: dict[str, Path]):
+                 exe: str | os.PathLike | None, reuse: bool):
         self.case, self.result, self.r, self.out_dir = case, result, results, out_dir
-        self.exe, self.reuse, self.others = exe, reuse, others
+        self.exe, self.reuse = exe, reuse
         self.cache: dict = {}        #: values shared by the checks of one evaluation
 
     # data access by the names of docs/output.md ('series:component'), with a clear message
@@ -199,18 +199,9 @@ class Context:
         self.result.plots.append((title, figure_png(title, list(series), ylabel, scale, window,
                                                     list(bands))))
 
-    def other_results(self, case_name: str) -> Results:
-        """Results of another case (opened once, closed by ``close``)."""
-        if case_name not in self.others:
-            raise CaseError(f"case {self.case.name} needs the results of case {case_name}")
-        key = ("results", case_name)
-        if key not in self.cache:
-            self.cache[key] = Results(self.others[case_name])
-        return self.cache[key]
-
     def close(self) -> None:
         for key, value in list(self.cache.items()):
-            if isinstance(key, tuple) and key[0] in ("results", "fastsim_reference"):
+            if isinstance(key, tuple) and key[0] == "fastsim_reference":
                 value.close()
                 del self.cache[key]
 
@@ -228,7 +219,6 @@ class Case:
     title: str
     description: str
     evaluate: Callable[[Context], None]
-    needs: tuple[str, ...] = ()                 #: cases whose results this one compares with
     baseline_channels: tuple[str, ...] = ()     #: default channels of ``freeze``
     run: bool = True                            #: False: evaluation runs its own variants only
 
