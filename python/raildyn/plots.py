@@ -260,42 +260,31 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m raildyn.plots",
                                      description="Quick-look plots of raildyn results files.")
     sub = parser.add_subparsers(dest="command", required=True)
-    p_track = sub.add_parser("track", help="track alignment (from `raildyn track`)")
-    p_track.add_argument("file")
-    p_track.add_argument("out")
-    p_scan = sub.add_parser("profile-scan", help="contact table (from `raildyn profile-scan --h5`)")
-    p_scan.add_argument("file")
-    p_scan.add_argument("out")
-    p_locus = sub.add_parser("root-locus", help="modes against speed (from `raildyn eigen --csv`)")
-    p_locus.add_argument("file")
-    p_locus.add_argument("out")
-    p_con = sub.add_parser("conicity", help="conicity against amplitude (profile-scan --conicity-csv)")
-    p_con.add_argument("file")
-    p_con.add_argument("out")
-    p_con.add_argument("--title", help="plot title (default: the file's name)")
-    p_cp = sub.add_parser("contact-points",
-                          help="profiles with contact-point lines (profile-scan --contact-plot: H5 and profiles CSV)")
-    p_cp.add_argument("file")
-    p_cp.add_argument("curves")
-    p_cp.add_argument("out")
-    p_chan = sub.add_parser("channels", help="series over the file's axis")
-    p_chan.add_argument("file")
-    p_chan.add_argument("out")
-    p_chan.add_argument("channels", nargs="*")
+
+    def command(name: str, help_text: str, plot, *positionals: str) -> argparse.ArgumentParser:
+        """A subcommand: its positional arguments after the input file, and the plot it makes
+        of the parsed arguments."""
+        p = sub.add_parser(name, help=help_text)
+        for arg in ("file", *positionals):
+            p.add_argument(arg)
+        p.set_defaults(plot=plot)
+        return p
+
+    command("track", "track alignment (from `raildyn track`)", lambda a: plot_track(a.file, a.out), "out")
+    command("profile-scan", "contact table (from `raildyn profile-scan --h5`)",
+            lambda a: plot_profile_scan(a.file, a.out), "out")
+    command("root-locus", "modes against speed (from `raildyn eigen --csv`)",
+            lambda a: plot_root_locus(a.file, a.out), "out")
+    command("conicity", "conicity against amplitude (profile-scan --conicity-csv)",
+            lambda a: plot_conicity(a.file, a.out, a.title), "out").add_argument(
+        "--title", help="plot title (default: the file's name)")
+    command("contact-points", "profiles with contact-point lines (profile-scan --contact-plot: H5 and profiles CSV)",
+            lambda a: plot_contact_points(a.file, a.curves, a.out), "curves", "out")
+    command("channels", "series over the file's axis", lambda a: plot_channels(a.file, a.out, a.channels or None),
+            "out").add_argument("channels", nargs="*")
     args = parser.parse_args(argv)
     try:
-        if args.command == "track":
-            written = plot_track(args.file, args.out)
-        elif args.command == "profile-scan":
-            written = plot_profile_scan(args.file, args.out)
-        elif args.command == "conicity":
-            written = plot_conicity(args.file, args.out, args.title)
-        elif args.command == "contact-points":
-            written = plot_contact_points(args.file, args.curves, args.out)
-        elif args.command == "root-locus":
-            written = plot_root_locus(args.file, args.out)
-        else:
-            written = plot_channels(args.file, args.out, args.channels or None)
+        written = args.plot(args)
     except (OSError, ValueError, KeyError) as exc:
         print(f"raildyn.plots: {exc}", file=sys.stderr)
         return 1
