@@ -96,14 +96,17 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .executable import ExecutableNotFound, find_raildyn_executable, run_deck
+from .executable import CommandParser, ExecutableNotFound, find_raildyn_executable, run_deck
 from .results import Results
 from .results_window import write_rows
 # the growth-rate estimator is raildyn critical-speed's and the validation harness's
 from .stability import StabilityError, growth_rate
 
 KEY_RE = re.compile(r"^(?P<group>[a-z_]+)(\[(?P<name>[^\]]+)\])?\.(?P<param>[a-z_0-9]+)$")
-REDUCTIONS = ("max", "min", "mean", "max_abs", "rms", "final", "growth_rate")
+#: reductions of a channel over a window's samples (reduce_channel; growth_rate besides these)
+_REDUCERS = {"max": np.max, "min": np.min, "mean": np.mean, "max_abs": lambda y: np.max(np.abs(y)),
+             "rms": lambda y: np.sqrt(np.mean(y ** 2)), "final": lambda y: y[-1]}
+REDUCTIONS = (*_REDUCERS, "growth_rate")
 #: quantities without a limit whose largest signed value is the worst (FI_surf < 0: below the
 #: shakedown limit, the further the safer)
 SIGNED_WORST = frozenset({"RCF_index"})
@@ -315,11 +318,8 @@ def write_decks(campaign: Campaign) -> list[tuple[int, dict[str, Any], Path]]:
 
 
 def _file_sha256(path: Path) -> str:
-    h = hashlib.sha256()
     with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
+        return hashlib.file_digest(f, "sha256").hexdigest()
 
 
 def runner_identity(exe: Path) -> str:
@@ -476,25 +476,11 @@ def _notice(line: str) -> None:
     print(line, file=sys.stderr, flush=True)
 
 
-def reduce_channel(t: np.ndarray, y: np.ndarray, how: str,
-                   window: tuple[float, float] | None) -> float:
-    if window is not None:
-        mask = (t >= window[0]) & (t <= window[1])
-        t, y = t[mask], y[mask]
+def reduce_channel(t: np.ndarray, y: np.ndarray, how: str) -> float:
     if len(y) == 0:
         return float("nan")
-    if how == "max":
-        return float(np.max(y))
-    if how == "min":
-        return float(np.min(y))
-    if how == "mean":
-        return float(np.mean(y))
-    if how == "max_abs":
-        return float(np.max(np.abs(y)))
-    if how == "rms":
-        return float(np.sqrt(np.mean(y ** 2)))
-    if how == "final":
-        return float(y[-1])
+    if how in _REDUCERS:
+        return float(_REDUCERS[how](y))
     if how == "growth_rate":
         # the envelope of the oscillation about the signal's mean, every half-cycle peak
         # counted (floor 0); fewer than 3 peaks: no oscillation, no rate
@@ -602,7 +588,7 @@ def metrics_of(campaign: Campaign, run: Path) -> dict[str, float]:
             t = res.time
             if rows is not None:
                 t, data = t[rows], data[rows]
-            out[m.name] = reduce_channel(t, data, m.reduce, None)
+            out[m.name] = reduce_channel(t, data, m.reduce)
     return out
 
 
@@ -721,17 +707,8 @@ def run_campaign(campaign: Campaign, jobs: int | None = None, executor: str | No
     return write_summary(campaign)
 
 
-class _ArgumentParser(argparse.ArgumentParser):
-    """Usage errors exit with 1 (bad input, as the runner's), not argparse's 2: that is the
-    runner's solver-failure status."""
-
-    def error(self, message: str):
-        self.print_usage(sys.stderr)
-        self.exit(1, f"{self.prog}: error: {message}\n")
-
-
 def main(argv: Sequence[str] | None = None) -> int:
-    ap = _ArgumentParser(prog="raildyn campaign", description=__doc__.split("\n\n")[0])
+    ap = CommandParser(prog="raildyn campaign", description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="write the decks, run them, write summary.csv")
     r.add_argument("campaign")

@@ -2,8 +2,10 @@
 by the validation harness and the campaigns."""
 from __future__ import annotations
 
+import argparse
 import os
 import subprocess
+import sys
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
@@ -47,6 +49,18 @@ def find_raildyn_executable(exe: str | os.PathLike | None = None, given_as: str 
 EXIT_OUTCOMES = {0: "completed", 1: "bad input", 2: "solver failure", 3: "physics limit", 4: "file error",
                  5: "internal error"}
 RESULTS_READABLE = (0, 3)
+
+
+class CommandParser(argparse.ArgumentParser):
+    """The parser of a command the runner hands to Python (raildyn campaign, raildyn
+    critical-speed): a usage error prints the usage line and exits with 1, bad input as the
+    runner's commands, not with argparse's 2, the runner's solver-failure status. The message
+    starts with ``error_prefix`` (default '<prog>: error')."""
+    error_prefix = ""
+
+    def error(self, message: str):
+        self.print_usage(sys.stderr)
+        self.exit(1, f"{self.error_prefix or self.prog + ': error'}: {message}\n")
 
 
 def run_deck(exe: str | os.PathLike, deck: str | os.PathLike, results: str | os.PathLike, *, quiet: bool = False,

@@ -14,7 +14,6 @@ pool, or a Slurm job array per round (``--backend slurm``).
 
 from __future__ import annotations
 
-import argparse
 import csv
 import json
 import math
@@ -29,7 +28,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from .executable import RESULTS_READABLE, ExecutableNotFound, find_raildyn_executable
+from .executable import RESULTS_READABLE, CommandParser, ExecutableNotFound, find_raildyn_executable
 from .results import Results
 
 __all__ = ["Mode", "mode_from_json", "read_root_locus", "StabilityError", "half_cycle_peaks", "growth_rate",
@@ -148,14 +147,10 @@ class CriticalSpeed:
                 "bracket": list(self.bracket), "mode": self.mode, "probes": self.probes, "note": self.note}
 
 
-def _runner(exe) -> Path:
-    return find_raildyn_executable(exe)
-
-
 def eigen_locus(deck: str | os.PathLike, speeds: Sequence[float], exe=None,
                 dofs: str | None = None) -> list[tuple[float, list[dict]]]:
     """``raildyn eigen DECK --speeds ... --json``: (speed, modes) per speed."""
-    args = [os.fspath(_runner(exe)), "eigen", os.fspath(deck), "--json",
+    args = [os.fspath(find_raildyn_executable(exe)), "eigen", os.fspath(deck), "--json",
             "--speeds", ",".join(f"{v:.17g}" for v in speeds)]
     if dofs:
         args += ["--dofs", dofs]
@@ -285,13 +280,6 @@ def growth_of(path: Path, speed: float, channel: str, t_from: float, t_end: floa
         raise StabilityError(f"probe at {speed:g} m/s, {channel}: {exc}") from None
     return {"speed": speed, "growth_rate": rate, "peaks": peaks,
             "frequency_hz": oscillation_frequency(*half_cycle_peaks(t[m], y[m], GROWTH_FLOOR)[:1])}
-
-
-def probe_growth(deck, speed: float, channel: str, t_from: float, t_end: float, work: Path, exe=None) -> dict:
-    """Growth rate [1/s] of ``channel`` over [t_from, t_end] in one run at ``speed``."""
-    (path,) = run_probes(deck, [{"simulation.speed": float(speed), "simulation.t_end": float(t_end)}], work, exe,
-                         tag=f"v{speed:.6f}".replace(".", "_"))
-    return growth_of(path, speed, channel, t_from, t_end)
 
 
 def peaks_after_speed_change(deck, speed: float, hold_speed: float, hold: float, after: float,
@@ -478,21 +466,13 @@ def ramp_critical_speed(deck, v_start: float, v_end: float, hold: float, duratio
                          probes, f"hunting amplitude {slow['amplitude']:.3g} at {v_start:g} m/s; {note}")
 
 
-class _Parser(argparse.ArgumentParser):
-    """Usage errors exit 1 with the usage line, as the runner's commands do (argparse: 2)."""
-
-    def error(self, message: str):
-        self.print_usage(sys.stderr)
-        print(f"raildyn: {message}", file=sys.stderr)
-        raise SystemExit(1)
-
-
 def main(argv: list[str] | None = None) -> int:
     """``raildyn critical-speed DECK --method linear|bisection|ramp [options] [--json]``."""
-    parser = _Parser(
+    parser = CommandParser(
         prog="raildyn critical-speed",
         description="Critical speed of a deck (docs/theory_stability.md): linear (root locus), "
                     "bisection (growth of disturbed runs) or ramp (speed ramp-down from hunting).")
+    parser.error_prefix = "raildyn"
     parser.add_argument("deck")
     parser.add_argument("--method", choices=["linear", "bisection", "ramp"], required=True)
     parser.add_argument("--speeds", default="10,100", help="bracket LO,HI [m/s] (ramp: from HI down to LO)")
