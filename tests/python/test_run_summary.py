@@ -8,7 +8,7 @@ import subprocess
 
 import pytest
 
-from raildyn import validation as V
+from raildyn import Results, validation as V
 
 G = 9.80665            # standard gravity of the model (docs/conventions.md)
 R0 = 0.45              # nominal radius: knife-edge contact when the centre is R0 above the rail
@@ -75,7 +75,7 @@ def test_the_results_file_and_the_harness_keep_the_notes(raildyn_exe, tmp_path):
         kept = f["meta"].attrs["notes"]
         kept = (kept.decode() if isinstance(kept, bytes) else str(kept)).split("\n")
     assert kept == printed and len(kept) == 2
-    notes = V.run_notes(V.Results(info.results).metadata)
+    notes = V.run_notes(Results(info.results).metadata)
     assert notes == printed
     assert [n.split(" wheel ")[0] for n in notes] == ["wheelset w1 left", "wheelset w1 right"]
     assert all("without contact in 100.0 % of 21 output samples" in n for n in notes)
@@ -83,7 +83,7 @@ def test_the_results_file_and_the_harness_keep_the_notes(raildyn_exe, tmp_path):
     info = V.run_deck(deck, tmp_path / "rest.h5", raildyn_exe)
     with h5py.File(info.results, "r") as f:
         assert "notes" not in f["meta"].attrs
-    assert V.run_notes(V.Results(info.results).metadata) == []
+    assert V.run_notes(Results(info.results).metadata) == []
 
 
 def test_the_c_api_gives_the_same_notes(raildyn_exe, tmp_path):

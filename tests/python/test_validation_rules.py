@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 
 from raildyn import validation as V
+from raildyn.validation import planar as P
+from raildyn.validation.tgv import identify_knife_edge_contact
 from raildyn.report import render_report
 from raildyn.stability import StabilityError
 
@@ -314,7 +316,7 @@ def _wheel_forces(series, n, wheelsets):
 
 #: Contact state of the synthetic straight runs (TGV-like: Kalker coefficients of a 3.8 x 2.9 mm
 #: ellipse, the bogie's static wheel load): lateral_stability's input for the same runs.
-STRAIGHT_CONTACT = V.KnifeEdgeContact(4.0e6, 3.6e6, 5.5e3, 14833.0)
+STRAIGHT_CONTACT = P.KnifeEdgeContact(4.0e6, 3.6e6, 5.5e3, 14833.0)
 
 
 def _straight_contact(series, t, y, wheelsets, f11, f22, f23=STRAIGHT_CONTACT.f23,
@@ -540,7 +542,7 @@ def test_tgv_straight_case_end_to_end(make_results_file, tmp_path, stable):
     out = tmp_path / "out"
     out.mkdir()
     f11, f22 = STRAIGHT_CONTACT.f11, STRAIGHT_CONTACT.f22
-    ev = V.lateral_stability("bogie", STRAIGHT_CONTACT, speed=20.0)
+    ev = P.lateral_stability("bogie", STRAIGHT_CONTACT, speed=20.0)
     assert ev.real < 0
     sigma = ev.real if stable else 0.15
     t = np.arange(0.0, 15.0 + 1e-9, 0.005)
@@ -565,10 +567,10 @@ def _curving_series(t, f11=9.0e6, f22=8.0e6, swap=False):
     contact outputs consistent with creep coefficients f11, f22 (spin forces opposite on the two
     wheels, so they cancel in the sums the harness uses)."""
     import math
-    p, c = V.TGV_BOGIE, V.TGV_CURVE
+    p, c = P.TGV_BOGIE, P.TGV_CURVE
     phi = math.asin(c["cant"] / c["cant_base"])
     aq = 20.0 ** 2 / c["radius"] * math.cos(phi) - 9.80665 * math.sin(phi)
-    s = V.steady_curving_bogie(f11, f22, c["radius"], aq)
+    s = P.steady_curving_bogie(f11, f22, c["radius"], aq)
     ramp = np.clip((t - 5.0) / 10.0, 0, 1)
     n = len(t)
     series = {"vehicle/speed": (np.full((n, 1), 20.0), "m/s", "V", "speed")}
@@ -644,9 +646,9 @@ def test_steady_curving_rigid_bogie_closed_form():
     """Stiff primary suspension: the rigid two-axle bogie's classical result
     y = -(r0/(lam R)) (e0 + f22 l^2/(f11 e0)) for both wheelsets, yaw -+l/R (Newland 1969;
     Boocock 1969), with no uncompensated acceleration."""
-    p = dict(V.TGV_BOGIE, kx=1e13, ky=1e13)
+    p = dict(P.TGV_BOGIE, kx=1e13, ky=1e13)
     f11, f22, R = 9.0e6, 8.0e6, 1000.0
-    s = V.steady_curving_bogie(f11, f22, R, 0.0, p)
+    s = P.steady_curving_bogie(f11, f22, R, 0.0, p)
     y = -(p["r0"] / (p["lam"] * R)) * (p["e0"] + f22 * p["l"] ** 2 / (f11 * p["e0"]))
     assert s["y1"] == pytest.approx(y, rel=1e-5) and s["y2"] == pytest.approx(y, rel=1e-5)
     assert s["psi1"] == pytest.approx(-p["l"] / R, rel=1e-5)
@@ -657,9 +659,9 @@ def test_steady_curving_soft_suspension_free_wheelsets():
     """Nearly free wheelsets: pure-rolling offset -r0 e0/(lam R) (outward in a left curve); the
     lateral creep forces carry the wheelset's and half the bogie frame's m a_q (the soft springs
     still transmit the frame's load in the steady state): psi = (m_w + m_b/2) a_q / (2 f22)."""
-    p = dict(V.TGV_BOGIE, kx=1e-3, ky=1e-3)
+    p = dict(P.TGV_BOGIE, kx=1e-3, ky=1e-3)
     f11, f22, R, aq = 9.0e6, 8.0e6, 1000.0, 0.07
-    s = V.steady_curving_bogie(f11, f22, R, aq, p)
+    s = P.steady_curving_bogie(f11, f22, R, aq, p)
     assert s["y1"] == pytest.approx(-p["r0"] * p["e0"] / (p["lam"] * R), rel=1e-6)
     assert s["psi1"] == pytest.approx((p["m_w"] + p["m_b"] / 2) * aq / (2 * f22), rel=1e-6)
     assert s["y2"] == pytest.approx(s["y1"], rel=1e-6)
@@ -667,7 +669,7 @@ def test_steady_curving_soft_suspension_free_wheelsets():
 
 def test_tgv_bogie_model_data_match_the_deck():
     text = (V.INPUTS / "vehicles" / "tgv001_bogie.nml").read_text()
-    p = V.TGV_BOGIE
+    p = P.TGV_BOGIE
     assert f"stiffness = {p['kx']:.2e}, {p['ky']:.2e}".replace("e+0", "e") in text
     assert "mass = 1500.0" in text and "mass = 3020.0" in text
     assert f"conicity = {p['lam']}" in text and f"nominal_radius = {p['r0']}" in text
@@ -686,12 +688,12 @@ def test_knife_edge_model_data_match_the_deck():
     """The wheelset spin inertia and the primary vertical springs/dampers of the knife-edge
     terms of the linear stability model are the deck's (tables 5.4, 5.8)."""
     text = (V.INPUTS / "vehicles" / "tgv001_bogie.nml").read_text()
-    assert f"iyy = {V.TGV_WHEELSET_IYY}" in text
-    kz, cz = V.TGV_PRIMARY_VERTICAL["kz"], V.TGV_PRIMARY_VERTICAL["cz"]
-    stiff = f"{V.TGV_BOGIE['kx']:.2e}, {V.TGV_BOGIE['ky']:.2e}, {kz:.2e}".replace("e+0", "e")
+    assert f"iyy = {P.TGV_WHEELSET_IYY}" in text
+    kz, cz = P.TGV_PRIMARY_VERTICAL["kz"], P.TGV_PRIMARY_VERTICAL["cz"]
+    stiff = f"{P.TGV_BOGIE['kx']:.2e}, {P.TGV_BOGIE['ky']:.2e}, {kz:.2e}".replace("e+0", "e")
     assert text.count(f"stiffness = {stiff}, damping = 0.0, 0.0, {cz:.2e}".replace("e+0", "e")) == 4
     with pytest.raises(ValueError, match="f22 missing"):
-        V.lateral_stability("bogie", 4e6, speed=20.0)
+        P.lateral_stability("bogie", 4e6, speed=20.0)
 
 
 def test_vehicle_model_reduces_to_two_bogies():
@@ -699,23 +701,23 @@ def test_vehicle_model_reduces_to_two_bogies():
     model is two copies of the bogie model; with the car coupled, each bogie carries half the
     car's m a_q and the car's yaw coupling changes the wheelsets only slightly."""
     f11, f22, R, aq = 9.0e6, 8.0e6, 1000.0, 0.07
-    single = V.steady_curving_bogie(f11, f22, R, aq)
-    saved = dict(V.TGV_VEHICLE)
+    single = P.steady_curving_bogie(f11, f22, R, aq)
+    saved = dict(P.TGV_VEHICLE)
     try:
-        V.TGV_VEHICLE.update(m_c=0.0, kx_s=1e-9, ky_s=1e-9)
-        bodies, springs = V.tgv_planar_model("vehicle")
+        P.TGV_VEHICLE.update(m_c=0.0, kx_s=1e-9, ky_s=1e-9)
+        bodies, springs = P.tgv_planar_model("vehicle")
         bodies = [b for b in bodies]
-        s = V.steady_curving(bodies, springs, f11, f22, R, aq, V.TGV_BOGIE["r0"], V.TGV_BOGIE["e0"],
-                             V.TGV_BOGIE["lam"])
+        s = P.steady_curving(bodies, springs, f11, f22, R, aq, P.TGV_BOGIE["r0"], P.TGV_BOGIE["e0"],
+                             P.TGV_BOGIE["lam"])
     finally:
-        V.TGV_VEHICLE.clear()
-        V.TGV_VEHICLE.update(saved)
+        P.TGV_VEHICLE.clear()
+        P.TGV_VEHICLE.update(saved)
     for a, b in (("ws1", "1"), ("ws2", "2"), ("ws3", "1"), ("ws4", "2")):
         assert s[a][0] == pytest.approx(single["y" + b], rel=1e-6)
         assert s[a][1] == pytest.approx(single["psi" + b], rel=1e-6)
-    bodies, springs = V.tgv_planar_model("vehicle")
-    s = V.steady_curving(bodies, springs, f11, f22, R, aq, V.TGV_BOGIE["r0"], V.TGV_BOGIE["e0"],
-                         V.TGV_BOGIE["lam"])
+    bodies, springs = P.tgv_planar_model("vehicle")
+    s = P.steady_curving(bodies, springs, f11, f22, R, aq, P.TGV_BOGIE["r0"], P.TGV_BOGIE["e0"],
+                         P.TGV_BOGIE["lam"])
     # total lateral creep force carries the whole vehicle's m a_q
     total = sum(2 * f22 * s[f"ws{k}"][1] for k in range(1, 5))
     mass = 4 * 1500.0 + 2 * 3020.0 + 43200.0
@@ -733,7 +735,7 @@ def test_critical_speed_bisection_on_synthetic_runs(tmp_path, monkeypatch, make_
     out.mkdir()
     speeds = []
     f11, f22 = STRAIGHT_CONTACT.f11, STRAIGHT_CONTACT.f22
-    v0 = V.linear_critical_speed("bogie", STRAIGHT_CONTACT)
+    v0 = P.linear_critical_speed("bogie", STRAIGHT_CONTACT)
     assert 20.0 < v0 < 40.0
 
     def fake_run(deck, results, exe=None, overrides="", timeout=0, reuse=False):
@@ -767,11 +769,11 @@ def test_lateral_stability_rigid_bogie_klingel():
     f11 e0 (lam_e y/r0 + e0 psi'/V) + (1 + eps) f22 kap l^2 psi'/V = 0, so the wavelength is
     2 pi sqrt((r0 e0/lam)(1 + (1 + eps) kap (f22/f11) l^2/e0^2)): Klingel's rigid bogie
     (oracles.md, 25.8 m) with the knife-edge factors (kap = 1.064, eps = 0.075: 27.2 m)."""
-    p = V.TGV_BOGIE
+    p = P.TGV_BOGIE
     saved = dict(p)
     try:
         p.update(kx=1e11, ky=1e11)
-        ev = V.lateral_stability("bogie", 1e9, 1e9, 40.0)
+        ev = P.lateral_stability("bogie", 1e9, 1e9, 40.0)
     finally:
         p.clear()
         p.update(saved)
@@ -786,10 +788,10 @@ def test_lateral_stability_rigid_bogie_klingel():
 
 def test_linear_critical_speed_is_the_stability_boundary():
     f11, f22 = 4.0e6, 3.6e6
-    vc = V.linear_critical_speed("bogie", f11, f22)
-    assert V.lateral_stability("bogie", f11, f22, vc - 0.05).real < 0 < V.lateral_stability("bogie", f11, f22, vc + 0.05).real
+    vc = P.linear_critical_speed("bogie", f11, f22)
+    assert P.lateral_stability("bogie", f11, f22, vc - 0.05).real < 0 < P.lateral_stability("bogie", f11, f22, vc + 0.05).real
     # larger creep coefficients damp the wheelsets more: higher critical speed (Wickens)
-    assert V.linear_critical_speed("bogie", 2 * f11, 2 * f22) > vc
+    assert P.linear_critical_speed("bogie", 2 * f11, 2 * f22) > vc
 
 
 def test_wheelset_on_ground_springs_models():
@@ -797,16 +799,16 @@ def test_wheelset_on_ground_springs_models():
     wheelset with lateral stiffness K = 2 ky and yaw stiffness Kp = 2 kx dp^2:
     psi = -(2 f11 e0 (e0/R + lam y/r0))/Kp from the yaw balance and K y = 2 f22 psi - m a_q."""
     f11, f22, R, aq = 9.0e6, 8.0e6, 1000.0, 0.05
-    p = V.TGV_BOGIE
-    bodies, springs = V.tgv_planar_model("wheelset")
-    s = V.steady_curving(bodies, springs, f11, f22, R, aq, p["r0"], p["e0"], p["lam"])
+    p = P.TGV_BOGIE
+    bodies, springs = P.tgv_planar_model("wheelset")
+    s = P.steady_curving(bodies, springs, f11, f22, R, aq, p["r0"], p["e0"], p["lam"])
     y, psi = s["ws1"]
     K, Kp = 2 * p["ky"], 2 * p["kx"] * p["dp"] ** 2
     assert Kp * psi == pytest.approx(-2 * f11 * p["e0"] * (p["e0"] / R + p["lam"] * y / p["r0"]), rel=1e-9)
     assert K * y == pytest.approx(2 * f22 * psi - p["m_w"] * aq, rel=1e-9)
-    assert V.lateral_stability("wheelset", f11, f22, 20.0).real < 0
+    assert P.lateral_stability("wheelset", f11, f22, 20.0).real < 0
     with pytest.raises(ValueError):
-        V.tgv_planar_model("tram")
+        P.tgv_planar_model("tram")
 
 
 def _profile_run(t, shift=(-6e-3, -3e-3, -5.5e-3, -2.5e-3), gamma_right=0.6, fy_scale=1.0):
@@ -904,7 +906,7 @@ def test_identify_creep_coefficients_with_spin(make_results_file, tmp_path):
     from raildyn import Results
     with Results(path) as r:
         ctx = V.Context(V.CASES["tgv_bogie_straight_20"], V.CaseResult("x"), r, tmp_path, None, False)
-        c = V.identify_knife_edge_contact(ctx, ["w1", "w2"], 0.5)
+        c = identify_knife_edge_contact(ctx, ["w1", "w2"], 0.5)
         # the identification that ignores the loads is biased by the moving spin force
         sums = [ctx.get(f"wheelsets/w{k}/left/patch1:{ch}") + ctx.get(f"wheelsets/w{k}/right/patch1:{ch}")
                 for k in (1, 2) for ch in ("creep_force_y", "eta", "spin")]

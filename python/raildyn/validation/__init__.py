@@ -27,26 +27,14 @@ Modules: ``core`` (what a case reports), ``references`` (reference data), ``sign
 (decks, running a deck, the evaluation context), ``manchester``, ``planar`` (the independent
 linear models), ``tgv``, ``cases`` (the registry, running a case), ``cli``.
 """
-from .core import INPUTS, REPO, VALIDATION, CaseError, CaseResult, Check, Table, read_commented_csv
-from .references import (PACKAGES, SI_UNIT, UNIT_SCALE, PackageEntry, freeze_baseline, load_package_table,
-                         load_tgv_checks, read_band_csv)
-from .signals import compare_band_curve, growth_rate, half_cycle_peaks, oscillation_wavelength, window_mask, window_mean
-from .runs import (DEFAULT_RUN_TIMEOUT, Case, Context, RunInfo, deck_assumptions, deck_files, deck_sha256,
-                   deck_wheelsets, find_executable, read_deck, run_deck, run_notes, run_timeout)
-from .manchester import (MANCHESTER_MAX_OFF_PERCENT, MANCHESTER_MIN_INSIDE, MANCHESTER_SIGMA_WINDOW,
-                         MANCHESTER_WIDEN, AcceptanceOutcome, BandVerdict, band_verdict, check_manchester_quiet,
-                         evaluate_manchester, evaluate_manchester_quiet, family_scales, manchester_acceptance,
-                         manchester_window, manchester_window_times, manchester_window_values)
-from .planar import (PLANAR_WHEELSETS, STANDARD_GRAVITY, TGV_BOGIE, TGV_CURVE, TGV_PRIMARY_VERTICAL,
-                     TGV_SECONDARY_CY, TGV_VEHICLE, TGV_WHEELSET_IYY, TGV_YAW_INERTIA, KnifeEdgeContact,
-                     PlanarBody, PlanarSpring, knife_edge_wheelset_terms, lateral_stability, linear_critical_speed,
-                     steady_curving, steady_curving_bogie, tgv_planar_model)
-from .tgv import (CHECK_KINDS, CRITICAL_SPEED_BRACKET, CRITICAL_SPEED_RESOLUTION, CRITICAL_SPEED_T_END,
-                  TGV_OUTWARD_SIGN, critical_speed_bisection, evaluate_tgv, fastsim_reference,
-                  identify_knife_edge_contact)
+from .core import INPUTS, REPO, VALIDATION, CaseError, CaseResult, Check, Table
+from .references import PACKAGES, UNIT_SCALE, freeze_baseline, load_package_table, read_band_csv
+from .signals import compare_band_curve, growth_rate, half_cycle_peaks, oscillation_wavelength, window_mean
+from .runs import Case, Context, RunInfo, deck_assumptions, deck_files, deck_wheelsets, run_deck, run_notes
+from .manchester import (band_verdict, family_scales, manchester_acceptance, manchester_window_times,
+                         manchester_window_values)
 from .cases import CASES, run_case, run_cases
 from .cli import main
-from ..results import Results
 
 __all__ = ["CASES", "Case", "CaseResult", "Check", "band_verdict", "family_scales", "manchester_acceptance",
            "load_package_table", "half_cycle_peaks", "growth_rate", "oscillation_wavelength",
