@@ -24,11 +24,12 @@ gives its maximum per channel and the time where it occurs.
 
 from __future__ import annotations
 
+import contextlib
 import fnmatch
 import math
 import os
 from dataclasses import dataclass, field
-from typing import Iterable, Mapping, Union
+from typing import Iterable, Iterator, Mapping, Union
 
 import numpy as np
 
@@ -144,10 +145,14 @@ def compare_curves(t_a, a, t_b, b, rtol: float = DEFAULT_RTOL, atol: float = DEF
                              float(err[k]), reference_range, tolerance, unit)
 
 
-def _as_results(res) -> tuple[Results, bool]:
+@contextlib.contextmanager
+def _opened(res) -> Iterator[Results]:
+    """A Results object as given (left open), or the results file at a path, closed after."""
     if isinstance(res, Results):
-        return res, False
-    return Results(res), True
+        yield res
+    else:
+        with Results(res) as opened:
+            yield opened
 
 
 def compare_results(res_a, res_b, channels: Iterable[str] | None = None,
@@ -159,9 +164,7 @@ def compare_results(res_a, res_b, channels: Iterable[str] | None = None,
     ('bodies/car/position_track:y'); default all columns of the reference. A channel of
     the reference missing from ``res_a`` fails.
     """
-    a, close_a = _as_results(res_a)
-    b, close_b = _as_results(res_b)
-    try:
+    with _opened(res_a) as a, _opened(res_b) as b:
         if channels is None:
             columns = b.columns()
         else:
@@ -187,11 +190,6 @@ def compare_results(res_a, res_b, channels: Iterable[str] | None = None,
             report.channels.append(compare_curves(t_a, a.get(col), t_b, b.get(col), r, t,
                                                   channel=col, unit=b.unit(col)))
         return report
-    finally:
-        if close_a:
-            a.close()
-        if close_b:
-            b.close()
 
 
 def plot_failures(report: ComparisonReport, res_a, res_b, out_dir: str | os.PathLike,
@@ -203,11 +201,9 @@ def plot_failures(report: ComparisonReport, res_a, res_b, out_dir: str | os.Path
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    a, close_a = _as_results(res_a)
-    b, close_b = _as_results(res_b)
-    os.makedirs(out_dir, exist_ok=True)
     written: list[str] = []
-    try:
+    with _opened(res_a) as a, _opened(res_b) as b:
+        os.makedirs(out_dir, exist_ok=True)
         for c in report.failed()[:max_plots]:
             fig, (ax1, ax2) = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
             have_a, have_b = c.channel in a, c.channel in b
@@ -236,11 +232,6 @@ def plot_failures(report: ComparisonReport, res_a, res_b, out_dir: str | os.Path
             fig.savefig(name, dpi=80)
             plt.close(fig)
             written.append(name)
-    finally:
-        if close_a:
-            a.close()
-        if close_b:
-            b.close()
     return written
 
 
