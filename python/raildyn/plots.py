@@ -34,6 +34,14 @@ def _pyplot():
     return plt
 
 
+def _save(fig, out: str | os.PathLike) -> str:
+    """Write the figure to ``out`` (90 dpi) and free it; returns the image path."""
+    fig.tight_layout()
+    fig.savefig(out, dpi=90)
+    _pyplot().close(fig)
+    return os.fspath(out)
+
+
 def _axis_label(r: Results) -> str:
     return f"{r.axis} [{r.unit(r.axis)}]"
 
@@ -67,10 +75,7 @@ def plot_channels(path: str | os.PathLike, out: str | os.PathLike,
             _plot_series(ax, r, ch)
         axes[-1, 0].set_xlabel(_axis_label(r))
         fig.suptitle(f"{os.path.basename(os.fspath(path))} ({r.status})", fontsize=9)
-        fig.tight_layout()
-        fig.savefig(out, dpi=90)
-        plt.close(fig)
-    return os.fspath(out)
+        return _save(fig, out)
 
 
 def plot_track(path: str | os.PathLike, out: str | os.PathLike) -> str:
@@ -99,10 +104,7 @@ def plot_track(path: str | os.PathLike, out: str | os.PathLike) -> str:
             _plot_series(ax, r, ch)
         if axes:
             axes[-1].set_xlabel(_axis_label(r))
-        fig.tight_layout()
-        fig.savefig(out, dpi=90)
-        plt.close(fig)
-    return os.fspath(out)
+        return _save(fig, out)
 
 
 def plot_profile_scan(path: str | os.PathLike, out: str | os.PathLike) -> str:
@@ -137,10 +139,7 @@ def plot_profile_scan(path: str | os.PathLike, out: str | os.PathLike) -> str:
         title = ", ".join(f"{k.replace('equivalent_conicity_', 'lambda_e ')} = {float(v):.3f}"
                           for k, v in attrs.items())
         fig.suptitle(title or "profile scan", fontsize=9)
-        fig.tight_layout()
-        fig.savefig(out, dpi=90)
-        plt.close(fig)
-    return os.fspath(out)
+        return _save(fig, out)
 
 
 def plot_root_locus(path: str | os.PathLike, out: str | os.PathLike) -> str:
@@ -167,10 +166,7 @@ def plot_root_locus(path: str | os.PathLike, out: str | os.PathLike) -> str:
     for ax in (a_zeta, a_freq):
         ax.grid(True, alpha=0.3)
     fig.suptitle("root locus (red: least-damped mode at each speed)", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=90)
-    plt.close(fig)
-    return os.fspath(out)
+    return _save(fig, out)
 
 
 def plot_conicity(path: str | os.PathLike, out: str | os.PathLike, title: str | None = None) -> str:
@@ -194,10 +190,7 @@ def plot_conicity(path: str | os.PathLike, out: str | os.PathLike, title: str | 
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     ax.set_title(title or f"equivalent conicity, {os.path.basename(os.fspath(path))}", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=90)
-    plt.close(fig)
-    return os.fspath(out)
+    return _save(fig, out)
 
 
 def plot_contact_points(scan_path: str | os.PathLike, curves_path: str | os.PathLike,
@@ -249,10 +242,7 @@ def plot_contact_points(scan_path: str | os.PathLike, curves_path: str | os.Path
                      f"{shifts[0] * 1000:g} .. {shifts[-1] * 1000:g} mm (blue .. red)", fontsize=8)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, loc="upper right")
-    fig.tight_layout()
-    fig.savefig(out, dpi=90)
-    plt.close(fig)
-    return os.fspath(out)
+    return _save(fig, out)
 
 
 def main(argv: list[str] | None = None) -> int:
