@@ -23,7 +23,6 @@ BANDS = VALIDATION
 #: Commercial packages of the benchmark (VIA is the thesis' own code, shown but not used).
 PACKAGES = ("SIMPACK", "VAMPIRE", "GENSYS", "ADAMS", "NUCARS")
 UNIT_SCALE = {"mm": 1e-3, "mrad": 1e-3, "kN": 1e3, "m": 1.0, "rad": 1.0, "N": 1.0}
-SI_UNIT = {"mm": "m", "mrad": "rad", "kN": "N"}
 
 
 @dataclass
