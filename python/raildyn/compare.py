@@ -197,9 +197,8 @@ def plot_failures(report: ComparisonReport, res_a, res_b, out_dir: str | os.Path
                   ) -> list[str]:
     """Plot every failing channel (both curves and the error against the tolerance band)
     as a PNG in ``out_dir``; returns the file names. Uses the Agg backend (no display)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from .plots import agg_pyplot
+    plt = agg_pyplot()
 
     written: list[str] = []
     with _opened(res_a) as a, _opened(res_b) as b:

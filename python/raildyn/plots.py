@@ -27,7 +27,9 @@ __all__ = ["plot_channels", "plot_track", "plot_root_locus", "plot_conicity", "p
 _MAX_PANELS = 24
 
 
-def _pyplot():
+def agg_pyplot():
+    """matplotlib.pyplot on the Agg backend (files only, no display): the plots here, the
+    validation report's (raildyn.report) and raildyn.compare's."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -38,7 +40,7 @@ def _save(fig, out: str | os.PathLike) -> str:
     """Write the figure to ``out`` (90 dpi) and free it; returns the image path."""
     fig.tight_layout()
     fig.savefig(out, dpi=90)
-    _pyplot().close(fig)
+    agg_pyplot().close(fig)
     return os.fspath(out)
 
 
@@ -63,7 +65,7 @@ def _plot_series(ax, r: Results, channel: str) -> None:
 def plot_channels(path: str | os.PathLike, out: str | os.PathLike,
                   channels: Iterable[str] | None = None) -> str:
     """One panel per channel over the file's axis; returns the image path."""
-    plt = _pyplot()
+    plt = agg_pyplot()
     with Results(path) as r:
         chans = list(channels) if channels else r.channels()
         if not chans:
@@ -80,7 +82,7 @@ def plot_channels(path: str | os.PathLike, out: str | os.PathLike,
 
 def plot_track(path: str | os.PathLike, out: str | os.PathLike) -> str:
     """Plan view of ``track/position`` plus every other ``track/...`` series."""
-    plt = _pyplot()
+    plt = agg_pyplot()
     with Results(path) as r:
         track = [c for c in r.channels() if c.startswith("track/")] or r.channels()
         others = [c for c in track if c != "track/position"][:_MAX_PANELS]
@@ -110,7 +112,7 @@ def plot_track(path: str | os.PathLike, out: str | os.PathLike) -> str:
 def plot_profile_scan(path: str | os.PathLike, out: str | os.PathLike) -> str:
     """The contact table of ``raildyn profile-scan --h5``: contact positions on the rail and
     the wheel, rolling-radius difference and contact angles against the lateral shift."""
-    plt = _pyplot()
+    plt = agg_pyplot()
     with Results(path) as r:
         y = r.time * 1000.0
         fig, axes = plt.subplots(2, 2, figsize=(10, 7))
@@ -147,7 +149,7 @@ def plot_root_locus(path: str | os.PathLike, out: str | os.PathLike) -> str:
     every mode against the running speed, one point per mode and speed; the least-damped
     mode of each speed is marked, and zero damping (the stability limit) drawn."""
     from .stability import read_root_locus
-    plt = _pyplot()
+    plt = agg_pyplot()
     locus = read_root_locus(path)
     fig, (a_zeta, a_freq) = plt.subplots(2, 1, figsize=(8, 8), sharex=True)
     for speed, modes in locus.items():
@@ -175,7 +177,7 @@ def plot_conicity(path: str | os.PathLike, out: str | os.PathLike, title: str | 
     ``title``: what the curves are of (profile-scan passes its wheel and rail); default the
     file's name."""
     import numpy as np
-    plt = _pyplot()
+    plt = agg_pyplot()
     data = np.genfromtxt(path, delimiter=",", names=True)
     if data.size == 0:
         raise ValueError(f"{path}: no rows")
@@ -201,7 +203,7 @@ def plot_contact_points(scan_path: str | os.PathLike, curves_path: str | os.Path
     centred and lifted by ``gap`` [m] above the rail so that the lines show where each shift
     touches: the upper end on the wheel profile, the lower end on the rail."""
     import numpy as np
-    plt = _pyplot()
+    plt = agg_pyplot()
     curves = np.genfromtxt(curves_path, delimiter=",", names=True, dtype=None, encoding="utf-8")
     with Results(scan_path) as r:
         shifts = r.time

@@ -15,20 +15,14 @@ from typing import Sequence
 __all__ = ["figure_png", "write_report", "render_report"]
 
 
-def _pyplot():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
 def figure_png(title: str, series: list, ylabel: str, scale: float = 1.0,
                window: tuple[float, float] | None = None, bands: list = (),
                xlabel: str = "time [s]") -> bytes:
     """PNG of histories: series = [(label, t, y)], y multiplied by ``scale``; an optional
     shaded evaluation window and tolerance bands [(label, t, lower, upper)]; the abscissa is
     time unless ``xlabel`` says otherwise (e.g. track position)."""
-    plt = _pyplot()
+    from .plots import agg_pyplot
+    plt = agg_pyplot()
     fig, ax = plt.subplots(figsize=(8.0, 3.6), dpi=90)
     try:
         for label, t, lo, hi in bands:
