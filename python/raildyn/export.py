@@ -72,13 +72,10 @@ def main(argv: list[str] | None = None) -> int:
         return 4
     try:
         files = export_csv(args.results, args.csv)
-    except ExportError as e:
-        print(f"raildyn export: error: {e}", file=sys.stderr)
-        return 1
     except OSError as e:
         print(f"raildyn export: error: {e}", file=sys.stderr)
         return 4
-    except ValueError as e:         # Results: not a raildyn results file
+    except ValueError as e:         # an ExportError, or Results: not a raildyn results file
         print(f"raildyn export: error: {e}", file=sys.stderr)
         return 1
     print(f"raildyn export: {len(files)} CSV files written to {args.csv}")
