@@ -24,14 +24,11 @@ def write_rows(source: str | os.PathLike, rows: np.ndarray, target: str | os.Pat
         n = src["time"].shape[0]
         if rows.shape != (n,):
             raise ValueError(f"{source}: a row mask of {rows.shape[0]} entries for {n} rows")
-        for key, value in src.attrs.items():
-            dst.attrs[key] = value
+        dst.attrs.update(src.attrs)
 
         def copy(name: str, obj) -> None:
             if isinstance(obj, h5py.Group):
-                group = dst.require_group(name)
-                for key, value in obj.attrs.items():
-                    group.attrs[key] = value
+                dst.require_group(name).attrs.update(obj.attrs)
                 return
             data = obj[()]
             if obj.ndim >= 1 and obj.shape[0] == n:
@@ -40,8 +37,7 @@ def write_rows(source: str | os.PathLike, rows: np.ndarray, target: str | os.Pat
                 made = dst.create_dataset(name, data=data, maxshape=maxshape, chunks=True)
             else:
                 made = dst.create_dataset(name, data=data)
-            for key, value in obj.attrs.items():
-                made.attrs[key] = value
+            made.attrs.update(obj.attrs)
 
         src.visititems(copy)
         if "meta" in dst:
