@@ -113,28 +113,40 @@ contains
     end if
   end subroutine c_doubles
 
-  !> The model and the state array of a call (handle, state, n): status RD_OK, or the
-  !> refusal (unknown handle, NULL array, negative size), recorded on the handle.
-  !> `array_name`: the array's name in raildyn.h (default 'state').
+  !> The model of a call: status RD_OK, or its refusal: an unknown handle, or `problem` with
+  !> its arguments ('' when none), recorded on the handle.
+  subroutine checked_call(handle, call_name, problem, model, status)
+    integer(c_int64_t), intent(in) :: handle
+    character(len=*), intent(in) :: call_name, problem
+    type(capi_model_t), pointer, intent(out) :: model
+    integer(c_int), intent(out) :: status
+    call lookup(handle, model, status)
+    if (status == RD_OK .and. len(problem) > 0) status = refuse(model, call_name, problem)
+  end subroutine checked_call
+
+  !> What is wrong with the pointer argument `name`: '' when given, else NULL and `expected`.
+  function null_problem(pointer, name, expected) result(problem)
+    type(c_ptr), intent(in) :: pointer
+    character(len=*), intent(in) :: name, expected
+    character(len=:), allocatable :: problem
+    problem = ''
+    if (.not. c_associated(pointer)) problem = name // ' is NULL; expected ' // expected
+  end function null_problem
+
+  !> The model and the array of a call (handle, array, n): status RD_OK, or the refusal
+  !> (unknown handle, NULL array, negative size), recorded on the handle. `array_name`:
+  !> the array's name in raildyn.h.
   subroutine state_call(handle, state, n, call_name, model, values, status, array_name)
     integer(c_int64_t), intent(in) :: handle
     type(c_ptr), intent(in) :: state
     integer(c_int), intent(in) :: n
-    character(len=*), intent(in) :: call_name
+    character(len=*), intent(in) :: call_name, array_name
     type(capi_model_t), pointer, intent(out) :: model
     real(c_double), pointer, intent(out) :: values(:)
     integer(c_int), intent(out) :: status
-    character(len=*), intent(in), optional :: array_name
     character(len=:), allocatable :: problem
-    values => no_values
-    call lookup(handle, model, status)
-    if (status /= RD_OK) return
-    if (present(array_name)) then
-      call c_doubles(state, n, array_name, values, problem)
-    else
-      call c_doubles(state, n, 'state', values, problem)
-    end if
-    if (len(problem) > 0) status = refuse(model, call_name, problem)
+    call c_doubles(state, n, array_name, values, problem)
+    call checked_call(handle, call_name, problem, model, status)
   end subroutine state_call
 
   !> A C output buffer argument must be a pointer to at least one byte (the NUL).
@@ -235,12 +247,8 @@ contains
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     real(c_double), pointer :: t
-    call lookup(handle, model, status)
+    call checked_call(handle, 'rd_get_time', null_problem(time, 'time', 'a pointer to a double'), model, status)
     if (status /= RD_OK) return
-    if (.not. c_associated(time)) then
-      status = refuse(model, 'rd_get_time', 'time is NULL; expected a pointer to a double')
-      return
-    end if
     call c_f_pointer(time, t)
     t = model%scene%time()
   end function rd_get_time
@@ -251,12 +259,8 @@ contains
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     integer(c_int), pointer :: n
-    call lookup(handle, model, status)
+    call checked_call(handle, 'rd_get_state_size', null_problem(size, 'size', 'a pointer to an int'), model, status)
     if (status /= RD_OK) return
-    if (.not. c_associated(size)) then
-      status = refuse(model, 'rd_get_state_size', 'size is NULL; expected a pointer to an int')
-      return
-    end if
     call c_f_pointer(size, n)
     n = int(model%scene%state_size(), c_int)
   end function rd_get_state_size
@@ -269,7 +273,7 @@ contains
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
     real(c_double), pointer :: values(:)
-    call state_call(handle, state, n, 'rd_get_state', model, values, status)
+    call state_call(handle, state, n, 'rd_get_state', model, values, status, 'state')
     if (status /= RD_OK) return
     call model%scene%get_state(values, error)
     status = conclude(model, error)
@@ -283,7 +287,7 @@ contains
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
     real(c_double), pointer :: values(:)
-    call state_call(handle, state, n, 'rd_set_state', model, values, status)
+    call state_call(handle, state, n, 'rd_set_state', model, values, status, 'state')
     if (status /= RD_OK) return
     call model%scene%set_state(values, error)
     status = conclude(model, error)
@@ -298,7 +302,7 @@ contains
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
     real(c_double), pointer :: values(:)
-    call state_call(handle, state, n, 'rd_set_start', model, values, status)
+    call state_call(handle, state, n, 'rd_set_start', model, values, status, 'state')
     if (status /= RD_OK) return
     call model%scene%set_start(time, values, error)
     status = conclude(model, error)
@@ -336,12 +340,8 @@ contains
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     integer(c_int), pointer :: n
-    call lookup(handle, model, status)
+    call checked_call(handle, 'rd_output_count', null_problem(count, 'count', 'a pointer to an int'), model, status)
     if (status /= RD_OK) return
-    if (.not. c_associated(count)) then
-      status = refuse(model, 'rd_output_count', 'count is NULL; expected a pointer to an int')
-      return
-    end if
     call c_f_pointer(count, n)
     n = int(model%scene%output_count(), c_int)
   end function rd_output_count
@@ -353,14 +353,9 @@ contains
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
     type(error_t), allocatable :: error
-    character(len=:), allocatable :: fname, problem
-    call lookup(handle, model, status)
+    character(len=:), allocatable :: fname
+    call checked_call(handle, 'rd_output_name', buffer_problem(name, name_len, 'name'), model, status)
     if (status /= RD_OK) return
-    problem = buffer_problem(name, name_len, 'name')
-    if (len(problem) > 0) then
-      status = refuse(model, 'rd_output_name', problem)
-      return
-    end if
     call model%scene%output_name(int(index), fname, error)
     status = conclude(model, error)
     if (status == RD_OK) call copy_to_c(fname, name, name_len)
@@ -374,15 +369,11 @@ contains
     type(error_t), allocatable :: error
     integer(c_int), pointer :: n
     integer :: fn
-    call lookup(handle, model, status)
+    character(len=:), allocatable :: problem
+    problem = null_problem(name, 'name', 'an output name')
+    if (len(problem) == 0) problem = null_problem(size, 'size', 'a pointer to an int')
+    call checked_call(handle, 'rd_output_size', problem, model, status)
     if (status /= RD_OK) return
-    if (.not. c_associated(name)) then
-      status = refuse(model, 'rd_output_size', 'name is NULL; expected an output name')
-      return
-    else if (.not. c_associated(size)) then
-      status = refuse(model, 'rd_output_size', 'size is NULL; expected a pointer to an int')
-      return
-    end if
     call c_f_pointer(size, n)
     call model%scene%output_size(c_string(name), fn, error)
     status = conclude(model, error)
@@ -398,14 +389,10 @@ contains
     type(error_t), allocatable :: error
     real(c_double), pointer :: view(:)
     character(len=:), allocatable :: problem
-    call lookup(handle, model, status)
-    if (status /= RD_OK) return
     call c_doubles(values, n, 'values', view, problem)
-    if (.not. c_associated(name)) problem = 'name is NULL; expected an output name'
-    if (len(problem) > 0) then
-      status = refuse(model, 'rd_get_output', problem)
-      return
-    end if
+    if (.not. c_associated(name)) problem = null_problem(name, 'name', 'an output name')
+    call checked_call(handle, 'rd_get_output', problem, model, status)
+    if (status /= RD_OK) return
     call model%scene%get_output(c_string(name), view, error)
     status = conclude(model, error)
   end function rd_get_output
@@ -419,14 +406,10 @@ contains
     type(error_t), allocatable :: error
     real(c_double), pointer :: view(:)
     character(len=:), allocatable :: problem
-    call lookup(handle, model, status)
-    if (status /= RD_OK) return
     call c_doubles(values, n, 'values', view, problem)
-    if (.not. c_associated(name)) problem = 'name is NULL; expected an input name'
-    if (len(problem) > 0) then
-      status = refuse(model, 'rd_set_input', problem)
-      return
-    end if
+    if (.not. c_associated(name)) problem = null_problem(name, 'name', 'an input name')
+    call checked_call(handle, 'rd_set_input', problem, model, status)
+    if (status /= RD_OK) return
     call model%scene%set_input(c_string(name), real(view, wp), error)
     status = conclude(model, error)
   end function rd_set_input
@@ -468,14 +451,8 @@ contains
     integer(c_int), value :: notes_len
     integer(c_int) :: status
     type(capi_model_t), pointer :: model
-    character(len=:), allocatable :: problem
-    call lookup(handle, model, status)
+    call checked_call(handle, 'rd_run_notes', buffer_problem(notes, notes_len, 'notes'), model, status)
     if (status /= RD_OK) return
-    problem = buffer_problem(notes, notes_len, 'notes')
-    if (len(problem) > 0) then
-      status = refuse(model, 'rd_run_notes', problem)
-      return
-    end if
     call copy_to_c(model%scene%run_notes(), notes, notes_len)
   end function rd_run_notes
 

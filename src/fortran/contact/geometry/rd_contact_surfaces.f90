@@ -46,7 +46,7 @@ module rd_contact_surfaces
     !> here instead of once per rail line and cone in the strip search (hot path)
     real(wp), allocatable :: cone_slope(:)
     real(wp), allocatable :: kappa(:)   !< smoothed profile curvature [1/m], + convex
-    real(wp) :: r_max = 0, r_min = 0
+    real(wp) :: r_max = 0
     real(wp) :: nominal_radius = 0
     real(wp) :: y_tape = 0              !< lateral position of the tape circle [m]
   end type wheel_surface_t
@@ -107,7 +107,6 @@ contains
       wheel%cone_slope(i) = (wheel%r(i + 1) - wheel%r(i)) / (wheel%y(i + 1) - wheel%y(i))
     end do
     wheel%r_max = maxval(wheel%r)
-    wheel%r_min = minval(wheel%r)
     wheel%nominal_radius = placement%nominal_radius
   end subroutine build_wheel_surface
 

@@ -354,7 +354,6 @@ contains
         p%cone_slope(j) = (p%r(j + 1) - p%r(j)) / (p%y(j + 1) - p%y(j))
       end do
       p%r_max = maxval(p%r)
-      p%r_min = minval(p%r)
       p%nominal_radius = wheel%nominal_radius
       p%y_tape = wheel%y_tape
     end subroutine part

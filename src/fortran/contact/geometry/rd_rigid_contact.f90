@@ -25,7 +25,7 @@ contains
     type(wheel_contact_t), intent(out), optional :: left, right
     real(wp), intent(in), optional :: lowering
     real(wp), parameter :: tol = 1.0e-12_wp, hz = 1.0e-7_wp, hphi = 1.0e-7_wp, resolution = 1.0e-6_wp
-    real(wp) :: g(2), gz(2), gp(2), jac(2, 2), det, dz, dphi, scale
+    real(wp) :: g(2), gz(2), gp(2), jac(2, 2), det, dz, dphi, scale, z_reported
     integer :: it
     character(len=160) :: msg
     z = geo%placement%nominal_radius
@@ -58,20 +58,10 @@ contains
       call make_error(error, RD_ERR_RUNTIME, trim(msg))
       return
     end if
-    if (present(left)) then
-      if (present(lowering)) then
-        call wheel_contact(geo, SIDE_LEFT, y, z - lowering, phi, psi, left)
-      else
-        call wheel_contact(geo, SIDE_LEFT, y, z, phi, psi, left)
-      end if
-    end if
-    if (present(right)) then
-      if (present(lowering)) then
-        call wheel_contact(geo, SIDE_RIGHT, y, z - lowering, phi, psi, right)
-      else
-        call wheel_contact(geo, SIDE_RIGHT, y, z, phi, psi, right)
-      end if
-    end if
+    z_reported = z
+    if (present(lowering)) z_reported = z - lowering
+    if (present(left)) call wheel_contact(geo, SIDE_LEFT, y, z_reported, phi, psi, left)
+    if (present(right)) call wheel_contact(geo, SIDE_RIGHT, y, z_reported, phi, psi, right)
   contains
     !> Fallback across kinks (two-point contact): phi by bracketing on the right wheel's
     !> penetration, with z solved for each phi so that the left wheel just touches. Both

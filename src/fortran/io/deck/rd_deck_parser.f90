@@ -12,7 +12,7 @@
 module rd_deck_parser
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_IO
-  use rd_deck_text, only: deck_string_t, append_string, to_lower, int_to_str, is_integer_text, &
+  use rd_deck_text, only: deck_string_t, append_string, joined, to_lower, int_to_str, is_integer_text, &
                           is_real_text, text_to_real, text_to_integer, text_to_logical, &
                           path_join, path_dir, is_absolute_path
   use rd_file_kind, only: file_kind, regular_file_problem, FILE_REGULAR, FILE_MISSING
@@ -124,11 +124,7 @@ contains
     case (PT_LOGICAL); t = '.true. or .false.'
     case (PT_STRING)
       if (size(p%allowed) > 0) then
-        t = 'one of '
-        do i = 1, size(p%allowed)
-          if (i > 1) t = t // ', '
-          t = t // "'" // p%allowed(i)%s // "'"
-        end do
+        t = 'one of ' // joined(p%allowed, "'")
         return
       else if (p%is_path) then
         t = 'a quoted file name'
@@ -154,11 +150,7 @@ contains
         t = 'a list of real numbers'
       end if
     case (PT_STRING_LIST)
-      t = 'a list of quoted strings among '
-      do i = 1, size(p%allowed)
-        if (i > 1) t = t // ', '
-        t = t // "'" // p%allowed(i)%s // "'"
-      end do
+      t = 'a list of quoted strings among ' // joined(p%allowed, "'")
       return
     end select
     r = range_text(p)

@@ -10,7 +10,7 @@
 !> rd_deck_checks.
 module rd_deck_schema
   use rd_kinds, only: wp, standard_gravity
-  use rd_deck_text, only: deck_string_t, single_string, to_lower, real_to_str, int_to_str, edit_distance
+  use rd_deck_text, only: deck_string_t, joined, single_string, to_lower, real_to_str, int_to_str, edit_distance
   implicit none
   private
   public :: param_schema_t, group_schema_t, deck_schema_t, build_deck_schema
@@ -648,12 +648,8 @@ contains
         t = trim(t)
       case (PT_STRING); t = "'" // p%default_strings(1)%s // "'"
       case (PT_STRING_LIST)
-        t = 'empty'
-        do i = 1, size(p%default_strings)
-          if (i == 1) t = ''
-          if (i > 1) t = t // ', '
-          t = t // p%default_strings(i)%s
-        end do
+        t = joined(p%default_strings, '')
+        if (size(p%default_strings) == 0) t = 'empty'
       end select
       if (p%default_kind == DEF_PREVIOUS) t = 'previous, first ' // t
     end select
@@ -663,31 +659,19 @@ contains
   function range_text(p) result(t)
     type(param_schema_t), intent(in) :: p
     character(len=:), allocatable :: t
-    integer :: i
     t = ''
     if (size(p%allowed) > 0) then
       t = 'one of: '
       if (p%ptype == PT_STRING_LIST) t = 'any of: '
-      do i = 1, size(p%allowed)
-        if (i > 1) t = t // ', '
-        t = t // p%allowed(i)%s
-      end do
+      t = t // joined(p%allowed, '')
       if (len(p%ref_group) > 0 .or. size(p%ref_keywords) > 0) return
     end if
     if (size(p%ref_keywords) > 0) then
-      t = 'a &' // p%ref_group // ' name or: '
-      do i = 1, size(p%ref_keywords)
-        if (i > 1) t = t // ', '
-        t = t // p%ref_keywords(i)%s
-      end do
+      t = 'a &' // p%ref_group // ' name or: ' // joined(p%ref_keywords, '')
       return
     end if
     if (size(p%path_keywords) > 0) then
-      t = 'a file or one of: '
-      do i = 1, size(p%path_keywords)
-        if (i > 1) t = t // ', '
-        t = t // p%path_keywords(i)%s
-      end do
+      t = 'a file or one of: ' // joined(p%path_keywords, '')
       return
     end if
     if (p%has_min .and. p%has_max) then
