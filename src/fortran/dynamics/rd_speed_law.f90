@@ -9,6 +9,7 @@
 module rd_speed_law
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use rd_kinds, only: wp
+  use rd_cubic_spline, only: locate_interval
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
   implicit none
   private
@@ -82,23 +83,13 @@ contains
   pure integer function segment(law, t) result(i)
     type(speed_law_t), intent(in) :: law
     real(wp), intent(in) :: t
-    integer :: lo, hi, mid
     if (t < law%t(1)) then
-      i = 0; return
+      i = 0
+    else if (t >= law%t(size(law%t))) then
+      i = size(law%t)
+    else
+      i = locate_interval(law%t, t)
     end if
-    if (t >= law%t(size(law%t))) then
-      i = size(law%t); return
-    end if
-    lo = 1; hi = size(law%t)
-    do while (hi - lo > 1)
-      mid = (lo + hi) / 2
-      if (t >= law%t(mid)) then
-        lo = mid
-      else
-        hi = mid
-      end if
-    end do
-    i = lo
   end function segment
 
   pure real(wp) function speed_at(self, t) result(v)

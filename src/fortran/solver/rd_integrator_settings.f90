@@ -62,7 +62,7 @@ contains
     end select
   end function method_id_from_name
 
-  !> Check the settings for a state of size n; one clear message per problem.
+  !> Check the settings for a state of size n; one clear message per problem (the first).
   subroutine validate_settings(settings, n, error)
     type(integrator_settings_t), intent(in) :: settings
     integer, intent(in) :: n
@@ -71,90 +71,52 @@ contains
     character(len=32) :: buf
 
     id = method_id_from_name(settings%method)
-    if (id == 0) then
-      call make_error(error, RD_ERR_INPUT, "method = '" // trim(settings%method) // &
-                      "' is unknown; expected " // method_names)
-      return
-    end if
-    if (.not. (settings%rtol >= 0.0_wp .and. settings%rtol < 1.0_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'rtol = ' // trim(sci_text(settings%rtol, 4)) // &
-                      ' is invalid; expected 0 <= rtol < 1 (e.g. 1e-6)')
-      return
-    end if
+    call require(id /= 0, "method = '" // trim(settings%method) // "' is unknown; expected " // method_names)
+    call require(settings%rtol >= 0.0_wp .and. settings%rtol < 1.0_wp, 'rtol = ' // &
+                 trim(sci_text(settings%rtol, 4)) // ' is invalid; expected 0 <= rtol < 1 (e.g. 1e-6)')
     if (allocated(settings%atol_vector)) then
-      if (size(settings%atol_vector) /= n) then
-        write (buf, '(i0, " /= ", i0)') size(settings%atol_vector), n
-        call make_error(error, RD_ERR_INPUT, 'atol_vector has the wrong size (' // &
-                        trim(buf) // '); expected one tolerance per state component')
-        return
-      end if
-      if (.not. all(settings%atol_vector >= 0.0_wp)) then
-        call make_error(error, RD_ERR_INPUT, 'atol_vector has a negative or NaN entry; ' // &
-                        'expected absolute tolerances >= 0')
-        return
-      end if
-      if (settings%rtol <= 0.0_wp .and. any(settings%atol_vector <= 0.0_wp)) then
-        call make_error(error, RD_ERR_INPUT, 'rtol = 0 with a zero entry in atol_vector; ' // &
-                        'expected at least one positive tolerance per component')
-        return
-      end if
+      write (buf, '(i0, " /= ", i0)') size(settings%atol_vector), n
+      call require(size(settings%atol_vector) == n, 'atol_vector has the wrong size (' // &
+                   trim(buf) // '); expected one tolerance per state component')
+      call require(all(settings%atol_vector >= 0.0_wp), 'atol_vector has a negative or NaN entry; ' // &
+                   'expected absolute tolerances >= 0')
+      call require(.not. (settings%rtol <= 0.0_wp .and. any(settings%atol_vector <= 0.0_wp)), &
+                   'rtol = 0 with a zero entry in atol_vector; expected at least one positive tolerance per component')
     else
-      if (.not. (settings%atol >= 0.0_wp)) then
-        call make_error(error, RD_ERR_INPUT, 'atol = ' // trim(sci_text(settings%atol, 4)) // &
-                        ' is invalid; expected atol >= 0 (e.g. 1e-8)')
-        return
-      end if
-      if (settings%rtol <= 0.0_wp .and. settings%atol <= 0.0_wp) then
-        call make_error(error, RD_ERR_INPUT, 'rtol and atol are both zero; ' // &
-                        'expected at least one positive tolerance')
-        return
-      end if
+      call require(settings%atol >= 0.0_wp, 'atol = ' // trim(sci_text(settings%atol, 4)) // &
+                   ' is invalid; expected atol >= 0 (e.g. 1e-8)')
+      call require(.not. (settings%rtol <= 0.0_wp .and. settings%atol <= 0.0_wp), 'rtol and atol are both zero; ' // &
+                   'expected at least one positive tolerance')
     end if
-    if (.not. (settings%max_step >= 0.0_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'max_step = ' // trim(sci_text(settings%max_step, 4)) // &
-                      ' is invalid; expected max_step >= 0 s (0 = unlimited)')
-      return
-    end if
-    if (.not. (settings%min_step >= 0.0_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'min_step = ' // trim(sci_text(settings%min_step, 4)) // &
-                      ' is invalid; expected min_step >= 0 s')
-      return
-    end if
-    if (settings%max_step > 0.0_wp .and. settings%min_step > settings%max_step) then
-      call make_error(error, RD_ERR_INPUT, 'min_step > max_step; expected min_step <= max_step')
-      return
-    end if
-    if (.not. (settings%initial_step >= 0.0_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'initial_step = ' // trim(sci_text(settings%initial_step, 4)) // &
-                      ' is invalid; expected initial_step >= 0 s (0 = automatic)')
-      return
-    end if
-    if (settings%max_num_steps <= 0) then
-      call make_error(error, RD_ERR_INPUT, 'max_num_steps must be a positive integer ' // &
-                      '(steps allowed per advance, e.g. 100000)')
-      return
-    end if
+    call require(settings%max_step >= 0.0_wp, 'max_step = ' // trim(sci_text(settings%max_step, 4)) // &
+                 ' is invalid; expected max_step >= 0 s (0 = unlimited)')
+    call require(settings%min_step >= 0.0_wp, 'min_step = ' // trim(sci_text(settings%min_step, 4)) // &
+                 ' is invalid; expected min_step >= 0 s')
+    call require(.not. (settings%max_step > 0.0_wp .and. settings%min_step > settings%max_step), &
+                 'min_step > max_step; expected min_step <= max_step')
+    call require(settings%initial_step >= 0.0_wp, 'initial_step = ' // trim(sci_text(settings%initial_step, 4)) // &
+                 ' is invalid; expected initial_step >= 0 s (0 = automatic)')
+    call require(settings%max_num_steps > 0, 'max_num_steps must be a positive integer ' // &
+                 '(steps allowed per advance, e.g. 100000)')
     select case (id)
     case (METHOD_BDF)
-      if (settings%max_order < 0 .or. settings%max_order > 5) then
-        call make_error(error, RD_ERR_INPUT, "max_order is invalid for method 'bdf'; " // &
-                        'expected 1..5 (0 = default 5)')
-        return
-      end if
+      call require(settings%max_order >= 0 .and. settings%max_order <= 5, &
+                   "max_order is invalid for method 'bdf'; expected 1..5 (0 = default 5)")
     case (METHOD_ADAMS)
-      if (settings%max_order < 0 .or. settings%max_order > 12) then
-        call make_error(error, RD_ERR_INPUT, "max_order is invalid for method 'adams'; " // &
-                        'expected 1..12 (0 = default 12)')
-        return
-      end if
+      call require(settings%max_order >= 0 .and. settings%max_order <= 12, &
+                   "max_order is invalid for method 'adams'; expected 1..12 (0 = default 12)")
     case (METHOD_RK4, METHOD_HEUN)
-      if (.not. (settings%fixed_step > 0.0_wp .and. settings%fixed_step < huge(1.0_wp))) then
-        call make_error(error, RD_ERR_INPUT, 'fixed_step = ' // trim(sci_text(settings%fixed_step, 4)) // &
-                        " is invalid for method '" // trim(adjustl(settings%method)) // &
-                        "'; expected a step size > 0 s")
-        return
-      end if
+      call require(settings%fixed_step > 0.0_wp .and. settings%fixed_step < huge(1.0_wp), 'fixed_step = ' // &
+                   trim(sci_text(settings%fixed_step, 4)) // " is invalid for method '" // &
+                   trim(adjustl(settings%method)) // "'; expected a step size > 0 s")
     end select
+  contains
+    !> The first failed requirement is the error.
+    subroutine require(ok, message)
+      logical, intent(in) :: ok
+      character(len=*), intent(in) :: message
+      if (.not. ok .and. .not. allocated(error)) call make_error(error, RD_ERR_INPUT, message)
+    end subroutine require
   end subroutine validate_settings
 
 end module rd_integrator_settings

@@ -61,7 +61,7 @@ contains
     integer, intent(in) :: kind            !< PROFILE_WHEEL or PROFILE_RAIL (expected)
     type(profile_t), intent(out) :: profile
     type(error_t), allocatable, intent(out) :: error
-    integer :: unit, ios, nline
+    integer :: unit, ios
     character(len=max_line) :: line
     logical :: is_simpack
     open (newunit=unit, file=path, status='old', action='read', iostat=ios)
@@ -70,11 +70,9 @@ contains
       return
     end if
     is_simpack = .false.
-    nline = 0
     do
       read (unit, '(a)', iostat=ios) line
       if (ios /= 0) exit
-      nline = nline + 1
       if (index(adjustl(line), 'point.begin') == 1) then
         is_simpack = .true.
         exit
@@ -328,17 +326,9 @@ contains
   subroutine grow(a, b, lines)
     real(wp), allocatable, intent(inout) :: a(:), b(:)
     integer, allocatable, intent(inout) :: lines(:)
-    real(wp), allocatable :: t(:)
-    integer, allocatable :: l(:)
-    allocate (t(2 * size(a)))
-    t(:size(a)) = a
-    call move_alloc(t, a)
-    allocate (t(2 * size(b)))
-    t(:size(b)) = b
-    call move_alloc(t, b)
-    allocate (l(2 * size(lines)))
-    l(:size(lines)) = lines
-    call move_alloc(l, lines)
+    a = [a, a]
+    b = [b, b]
+    lines = [lines, lines]
   end subroutine grow
 
   !> Write a plain y-z table in metres with a header comment (our conventions).
