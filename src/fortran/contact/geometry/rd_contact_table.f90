@@ -5,7 +5,10 @@
 !> Table variables, per wheel (LEFT wheel model, the right one by mirroring as for strips):
 !>   u   = lateral displacement of the wheel's reference point (tape circle, lowest point of
 !>         the unrolled wheel) from its nominal place: u = y + y_tape (cos phi - 1) + r0 sin phi,
-!>   phi = roll (tilt of the wheel profile), at zero yaw.
+!>   phi = roll (tilt of the wheel profile), at zero yaw,
+!> and a second table over u and the yaw psi at zero roll, which holds how much the yaw
+!> changes each quantity (the angle of attack moves the flange contact by tens of um in height
+!> and millimetres along the rail at 10-20 mrad).
 !> Writing the table over u instead of the wheelset's y removes the roll's lever arm: at
 !> fixed u only the small tilt of the profile depends on phi, so a few roll nodes suffice.
 !>
@@ -34,6 +37,12 @@
 !> contact jumps), cubic Hermite in phi with central-difference slopes over the values
 !> interpolated at the roll nodes (C1). Roll beyond the table's range keeps the exact
 !> reference-point transformation and clamps only the tilt.
+!> Yaw: v(u, phi, psi) = v(u, phi, 0) + D(u, psi), D(u, psi) = v(u, 0, psi) - v(u, 0, 0) from
+!> the yaw table (exact at zero roll; the roll's effect on the yaw's change is left out). The
+!> geometry is symmetric under x -> -x, which reverses the yaw: every quantity is even in psi
+!> except the longitudinal positions of the contact points (odd), so the yaw nodes cover
+!> psi >= 0 and the Hermite in |psi| takes its ghost node below 0 by that parity (C1 through
+!> psi = 0). Yaw beyond the table's range clamps the change, not the exact reference point.
 module rd_contact_table
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME
@@ -62,11 +71,18 @@ module rd_contact_table
   integer, parameter :: Q_CURV_WHEEL_ROLL = 10
   integer, parameter :: Q_CURV_WHEEL_LAT = 11
   integer, parameter :: Q_CURV_RAIL_LAT = 12
-  integer, parameter :: TABLE_QUANTITIES = 12
+  integer, parameter :: Q_WHEEL_X = 13        !< wheel point, intermediate frame x (the lead) [m]
+  integer, parameter :: Q_RAIL_X = 14         !< rail point X minus reference point X [m]
+  integer, parameter :: TABLE_QUANTITIES = 14
+  !> parity in the yaw (x -> -x symmetry): -1 for the longitudinal positions, +1 for the rest
+  real(wp), parameter :: yaw_parity(TABLE_QUANTITIES) = [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, &
+    1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp, -1.0_wp]
 
   !> A slot whose part sees no rail at a node is placed this far below the highest other
   !> slot's touch height (far from contact; only the interpolation's neighbourhood sees it) [m].
   real(wp), parameter :: absent_gap = 1.0e-2_wp
+  !> A slot whose touch at zero yaw is this far below the highest slot's gets no yaw change [m]
+  real(wp), parameter :: far_gap = 5.0e-3_wp
 
   !> What a table depends on besides the surfaces (all part of its cache key).
   type :: contact_table_options_t
@@ -75,6 +91,10 @@ module rd_contact_table
     real(wp) :: roll_max = 0.03_wp             !< roll nodes in [-roll_max, roll_max] [rad]
     integer :: roll_nodes = 25                 !< number of roll nodes (odd: 0 is a node)
     real(wp) :: reference_approach = 2.0e-5_wp !< normal approach of the tabulated patch data [m]
+    !> yaw nodes in [0, yaw_max] (the table is even / odd in the yaw): 5 mrad apart up to
+    !> 50 mrad, beyond any wheelset's yaw short of derailment (the flange-climb scene: 21 mrad)
+    real(wp) :: yaw_max = 0.05_wp
+    integer :: yaw_nodes = 11
     real(wp) :: slot_angle = 0.2_wp            !< wheel slope angle of the tread/flange cut [rad]
     !> wheel slope angles where the flange-root part ends and the flange-face part begins
     !> [rad]: inside the slopes the contact jumps over on S1002 / 60E1 and UIC60 at zero yaw
@@ -97,14 +117,15 @@ module rd_contact_table
     real(wp) :: s_cut = 0                !< wheel profile coordinate of the tread/flange cut [m]
     real(wp) :: s_root_end = 0           !< ... of the flange root's end [m]
     real(wp) :: s_face_start = 0         !< ... of the flange face's start [m]
-    !> steepest slope |dr/dy| of the wheel between the flange tip and the tape circle (the
-    !> flange angle, S1002: 70 deg): the largest cone slope the yaw lead can have (below)
-    real(wp) :: yaw_slope_max = 0
-    integer :: nu = 0, nphi = 0
-    real(wp) :: u0 = 0, du = 1, phi0 = 0, dphi = 1
-    !> values(iu, iphi, q, slot) and their u-derivatives (Fritsch-Carlson) [per m]
+    integer :: nu = 0, nphi = 0, npsi = 0
+    real(wp) :: u0 = 0, du = 1, phi0 = 0, dphi = 1, dpsi = 1
+    !> values(iu, iphi, q, slot) at zero yaw and their u-derivatives (Fritsch-Carlson) [per m]
     real(wp), allocatable :: values(:, :, :, :)
     real(wp), allocatable :: slopes(:, :, :, :)
+    !> yaw_change(iu, ipsi, q, slot) = v(u, 0, psi) - v(u, 0, 0) at psi = (ipsi - 1) dpsi, and
+    !> its u-derivatives
+    real(wp), allocatable :: yaw_change(:, :, :, :)
+    real(wp), allocatable :: yaw_slopes(:, :, :, :)
   end type contact_table_t
 
 contains
@@ -117,10 +138,10 @@ contains
     type(contact_table_t), intent(out) :: table
     type(error_t), allocatable, intent(out) :: error
     type(wheel_surface_t) :: parts(TABLE_SLOTS)
-    logical, allocatable :: present_at(:, :, :)
-    integer :: iu, ip, slot, q, other
-    real(wp) :: u, phi, y, h, row(TABLE_QUANTITIES), cuts(3)
-    logical :: found
+    integer :: j, iu, slot
+    real(wp) :: cuts(3)
+    logical :: far(TABLE_SLOTS)
+    real(wp), allocatable :: angles(:), zeros(:)
 
     call check_options(options, error)
     if (allocated(error)) return
@@ -135,51 +156,98 @@ contains
     table%s_cut = cuts(1)
     table%s_root_end = cuts(2)
     table%s_face_start = cuts(3)
-    iu = maxloc(wheel%r, dim=1)                       ! the flange tip
-    ip = minloc(abs(wheel%s), dim=1)                  ! the tape circle
-    table%yaw_slope_max = maxval(abs(wheel%slope(min(iu, ip):max(iu, ip))))
     table%nu = 2 * nint(options%shift_max / options%shift_step) + 1
     table%du = options%shift_step
     table%u0 = -(table%nu - 1) / 2 * table%du
     table%nphi = options%roll_nodes
-    if (table%nphi > 1) then
-      table%dphi = 2 * options%roll_max / (table%nphi - 1)
-      table%phi0 = -options%roll_max
-    else
-      table%dphi = 1
-      table%phi0 = 0
-    end if
-    allocate (table%values(table%nu, table%nphi, TABLE_QUANTITIES, TABLE_SLOTS))
-    allocate (table%slopes(table%nu, table%nphi, TABLE_QUANTITIES, TABLE_SLOTS))
-    allocate (present_at(table%nu, table%nphi, TABLE_SLOTS))
-    table%values = 0
-    do ip = 1, table%nphi
-      phi = table%phi0 + (ip - 1) * table%dphi
+    table%dphi = 2 * options%roll_max / (table%nphi - 1)
+    table%phi0 = -options%roll_max
+    table%npsi = options%yaw_nodes
+    table%dpsi = options%yaw_max / (table%npsi - 1)
+    ! the roll table at zero yaw
+    angles = [(table%phi0 + (j - 1) * table%dphi, j = 1, table%nphi)]
+    zeros = spread(0.0_wp, 1, table%nphi)
+    call tabulate_grid(parts, rail, table, angles, zeros, table%values, table%slopes, error)
+    if (allocated(error)) return
+    ! the yaw table at zero roll, held as the change from zero yaw
+    angles = [((j - 1) * table%dpsi, j = 1, table%npsi)]
+    zeros = spread(0.0_wp, 1, table%npsi)
+    call tabulate_grid(parts, rail, table, zeros, angles, table%yaw_change, table%yaw_slopes, error)
+    if (allocated(error)) return
+    ! a slot far below the highest one at zero yaw (far_gap) has no yaw change: a flange part
+    ! far from the rail has no meaningful touch (its nodes are filled at zero yaw, and when
+    ! yawed its touch search can land on a corner of the rail: the face slot 5 mm off centre
+    ! on the field side, 43.6 mm below the tread at zero yaw, touched 36 mm higher at 5 mrad
+    ! and 0.37 m lower at 10 mrad, which the interpolation in the yaw turned into a phantom
+    ! patch; the changes of slots near contact stay below 1.4 mm up to 42 mrad)
+    do iu = 1, table%nu
+      far = table%yaw_change(iu, 1, Q_HEIGHT, :) < maxval(table%yaw_change(iu, 1, Q_HEIGHT, :)) - far_gap
+      do j = table%npsi, 1, -1
+        table%yaw_change(iu, j, :, :) = table%yaw_change(iu, j, :, :) - table%yaw_change(iu, 1, :, :)
+      end do
+      do slot = 1, TABLE_SLOTS
+        if (far(slot)) table%yaw_change(iu, :, :, slot) = 0
+      end do
+    end do
+    call fill_slopes(table%yaw_change, table%du, table%yaw_slopes)
+  end subroutine build_contact_table
+
+  !> values(iu, j, q, slot) of every slot at the shift nodes and the poses (phis(j), psis(j))
+  !> of the wheelset, and their u-slopes.
+  subroutine tabulate_grid(parts, rail, table, phis, psis, values, slopes, error)
+    type(wheel_surface_t), intent(in) :: parts(TABLE_SLOTS)
+    type(rail_surface_t), intent(in) :: rail
+    type(contact_table_t), intent(in) :: table
+    real(wp), intent(in) :: phis(:), psis(:)
+    real(wp), allocatable, intent(out) :: values(:, :, :, :), slopes(:, :, :, :)
+    type(error_t), allocatable, intent(out) :: error
+    logical, allocatable :: present_at(:, :, :)
+    integer :: iu, ip, slot, q, other, n
+    real(wp) :: u, y, h, row(TABLE_QUANTITIES)
+    logical :: found
+
+    n = size(phis)
+    allocate (values(table%nu, n, TABLE_QUANTITIES, TABLE_SLOTS), slopes(table%nu, n, TABLE_QUANTITIES, TABLE_SLOTS))
+    allocate (present_at(table%nu, n, TABLE_SLOTS))
+    values = 0
+    do ip = 1, n
       do iu = 1, table%nu
         u = table%u0 + (iu - 1) * table%du
-        y = u - table%y_tape * (cos(phi) - 1) - table%r0 * sin(phi)
+        ! the wheelset's y that puts the reference point at u (inverse of table_wheel_contact's)
+        y = u + table%y_tape - cos(psis(ip)) * (table%y_tape * cos(phis(ip)) + table%r0 * sin(phis(ip)))
         do slot = 1, TABLE_SLOTS
-          call tabulate_node(parts(slot), rail, y, phi, table%y_tape, table%r0, options%reference_approach, &
-                             row, found, error)
+          call tabulate_node(parts(slot), rail, y, phis(ip), psis(ip), table%y_tape, table%r0, &
+                             table%options%reference_approach, row, found, error)
+          ! a yawed flange part far from the rail can defeat the touch search (the face more
+          ! than 3-17 mm of shift away from its contact at 5-40 mrad: not bracketed); it has
+          ! the zero-yaw data there (below)
+          if (allocated(error) .and. psis(ip) /= 0) then
+            deallocate (error)
+            found = .false.
+          end if
           if (allocated(error)) then
             call error_context(error, 'build_contact_table: ' // trim(slot_name(slot)) // ' part at u = ' // &
-                               sci_text(u, 5) // ' m, roll = ' // sci_text(phi, 5) // ' rad')
+                               trim(sci_text(u, 5)) // ' m, roll = ' // trim(sci_text(phis(ip), 5)) // &
+                               ' rad, yaw = ' // trim(sci_text(psis(ip), 5)) // ' rad')
             return
           end if
           present_at(iu, ip, slot) = found
-          if (found) table%values(iu, ip, :, slot) = row
+          if (found) values(iu, ip, :, slot) = row
         end do
       end do
     end do
     ! a part without rail under it: far below the highest other part's touch height, the
-    ! other data from the nearest node where it has some (continuous, no force)
+    ! other data from the nearest node where it has some (continuous, no force); at a yaw,
+    ! where the yawed part is not found (or its touch not bracketed: a flange part far from
+    ! the rail), the data of zero yaw (no change by the yaw there)
     do slot = 1, TABLE_SLOTS
       if (.not. any(present_at(:, :, slot))) then
         call make_error(error, RD_ERR_INPUT, 'build_contact_table: the ' // trim(slot_name(slot)) // &
                         ' part of the wheel never meets the rail within the table''s range')
         return
       end if
-      do ip = 1, table%nphi
+      do ip = 1, n
+        if (psis(ip) /= 0) cycle
         do iu = 1, table%nu
           if (present_at(iu, ip, slot)) cycle
           other = 0
@@ -187,7 +255,7 @@ contains
             if (q == slot .or. .not. present_at(iu, ip, q)) cycle
             if (other == 0) then
               other = q
-            else if (table%values(iu, ip, Q_HEIGHT, q) > table%values(iu, ip, Q_HEIGHT, other)) then
+            else if (values(iu, ip, Q_HEIGHT, q) > values(iu, ip, Q_HEIGHT, other)) then
               other = q
             end if
           end do
@@ -196,19 +264,20 @@ contains
                             sci_text(table%u0 + (iu - 1) * table%du, 5) // ' m; expected a smaller shift range')
             return
           end if
-          h = table%values(iu, ip, Q_HEIGHT, other) - absent_gap
-          table%values(iu, ip, :, slot) = table%values(nearest_present(present_at(:, ip, slot), iu), ip, :, slot)
-          table%values(iu, ip, Q_HEIGHT, slot) = h
+          h = values(iu, ip, Q_HEIGHT, other) - absent_gap
+          values(iu, ip, :, slot) = values(nearest_present(present_at(:, ip, slot), iu), ip, :, slot)
+          values(iu, ip, Q_HEIGHT, slot) = h
+        end do
+      end do
+      do ip = 1, n
+        if (psis(ip) == 0) cycle
+        do iu = 1, table%nu
+          ! (column 1 of the yaw grid is zero yaw)
+          if (.not. present_at(iu, ip, slot)) values(iu, ip, :, slot) = values(iu, 1, :, slot)
         end do
       end do
     end do
-    do slot = 1, TABLE_SLOTS
-      do q = 1, TABLE_QUANTITIES
-        do ip = 1, table%nphi
-          call pchip_slopes(table%values(:, ip, q, slot), table%du, table%slopes(:, ip, q, slot))
-        end do
-      end do
-    end do
+    call fill_slopes(values, table%du, slopes)
   contains
     pure integer function nearest_present(mask, i) result(j)
       logical, intent(in) :: mask(:)
@@ -228,7 +297,21 @@ contains
         end if
       end do
     end function nearest_present
-  end subroutine build_contact_table
+  end subroutine tabulate_grid
+
+  !> Fritsch-Carlson u-slopes of every column of a table.
+  pure subroutine fill_slopes(values, du, slopes)
+    real(wp), intent(in) :: values(:, :, :, :), du
+    real(wp), intent(out) :: slopes(:, :, :, :)
+    integer :: ip, q, slot
+    do slot = 1, size(values, 4)
+      do q = 1, size(values, 3)
+        do ip = 1, size(values, 2)
+          call pchip_slopes(values(:, ip, q, slot), du, slopes(:, ip, q, slot))
+        end do
+      end do
+    end do
+  end subroutine fill_slopes
 
   subroutine check_options(options, error)
     type(contact_table_options_t), intent(in) :: options
@@ -242,6 +325,10 @@ contains
       call make_error(error, RD_ERR_INPUT, 'contact table: roll range must be in (0, 0.2] rad')
     else if (options%roll_nodes < 3 .or. options%roll_nodes > 101 .or. mod(options%roll_nodes, 2) == 0) then
       call make_error(error, RD_ERR_INPUT, 'contact table: roll nodes must be odd, 3..101')
+    else if (.not. (options%yaw_max > 0 .and. options%yaw_max <= 0.2_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'contact table: yaw range must be in (0, 0.2] rad')
+    else if (options%yaw_nodes < 2 .or. options%yaw_nodes > 101) then
+      call make_error(error, RD_ERR_INPUT, 'contact table: yaw nodes must be 2..101')
     else if (.not. (options%reference_approach > 0 .and. options%reference_approach <= 1.0e-3_wp)) then
       call make_error(error, RD_ERR_INPUT, 'contact table: reference approach must be in (0, 1e-3] m')
     else if (.not. (options%slot_angle > 0.02_wp .and. options%slot_angle < 1.0_wp)) then
@@ -382,38 +469,44 @@ contains
   !> One node of one part: the wheelset height at which the part just touches (secant
   !> with bracketing on the signed maximum penetration, which is continuous and decreasing
   !> in z), then its deepest patch at the reference normal approach.
-  subroutine tabulate_node(part, rail, y, phi, y_tape, r0, approach, row, found, error)
+  subroutine tabulate_node(part, rail, y, phi, psi, y_tape, r0, approach, row, found, error)
     type(wheel_surface_t), intent(in) :: part
     type(rail_surface_t), intent(in) :: rail
-    real(wp), intent(in) :: y, phi, y_tape, r0, approach
+    real(wp), intent(in) :: y, phi, psi, y_tape, r0, approach
     real(wp), intent(out) :: row(TABLE_QUANTITIES)
     logical, intent(out) :: found
     type(error_t), allocatable, intent(out) :: error
-    type(wheel_contact_t) :: res
-    real(wp) :: z_touch, z_eval, cosg, zref_offset, yref_offset
-    integer :: k, it
+    type(wheel_contact_t) :: res, second
+    real(wp) :: z_touch, z_eval, cosg, zref_offset, arm
+    integer :: k
     row = 0
-    call touch_height(part, rail, y, phi, z_touch, found, error)
+    call touch_height(part, rail, y, phi, psi, z_touch, found, error)
     if (allocated(error) .or. .not. found) return
     ! lower by the reference approach along the normal (two passes: the angle is known
-    ! only once the patch is open)
-    cosg = 1
-    do it = 1, 2
-      z_eval = z_touch - approach / cosg
-      call strip_wheel_contact(part, rail, y, z_eval, phi, 0.0_wp, res)
-      if (res%n_patches == 0) then
-        call make_error(error, RD_ERR_RUNTIME, 'no patch opened below the touch height')
-        return
-      end if
+    ! only once the patch is open). The second pass can find nothing where the first patch
+    ! is on a part's steep continuation far from contact (its cos(gamma) floored: 20 times
+    ! the approach; the flange root 20 mm off centre at 5 mrad of yaw): the first one's
+    ! patch is kept there.
+    z_eval = z_touch - approach
+    call strip_wheel_contact(part, rail, y, z_eval, phi, psi, res)
+    if (res%n_patches == 0) then
+      call make_error(error, RD_ERR_RUNTIME, 'no patch opened below the touch height')
+      return
+    end if
+    k = maxloc(res%patch(1:res%n_patches)%penetration, dim=1)
+    cosg = max(cos(res%patch(k)%contact_angle), 0.05_wp)
+    z_eval = z_touch - approach / cosg
+    call strip_wheel_contact(part, rail, y, z_eval, phi, psi, second)
+    if (second%n_patches > 0) then
+      res = second
       k = maxloc(res%patch(1:res%n_patches)%penetration, dim=1)
-      cosg = max(cos(res%patch(k)%contact_angle), 0.05_wp)
-    end do
+    end if
     zref_offset = y_tape * sin(phi) - r0 * cos(phi)
-    yref_offset = y_tape * cos(phi) + r0 * sin(phi)
+    arm = y_tape * cos(phi) + r0 * sin(phi)         ! the reference point's lateral arm
     associate (p => res%patch(k))
       row(Q_HEIGHT) = z_touch + zref_offset
       row(Q_ANGLE) = p%contact_angle
-      row(Q_RAIL_DY) = p%point_rail(2) - (y + yref_offset)
+      row(Q_RAIL_DY) = p%point_rail(2) - (y + cos(psi) * arm)
       row(Q_RAIL_Z) = p%point_rail(3)
       row(Q_WHEEL_Y) = p%point_wheel(2)
       row(Q_WHEEL_Z) = p%point_wheel(3)
@@ -423,15 +516,20 @@ contains
       row(Q_CURV_WHEEL_ROLL) = p%curv_wheel_roll
       row(Q_CURV_WHEEL_LAT) = p%curv_wheel_lat
       row(Q_CURV_RAIL_LAT) = p%curv_rail_lat
+      ! odd in the yaw: exactly 0 at zero yaw (x -> -x symmetry)
+      if (psi /= 0) then
+        row(Q_WHEEL_X) = p%point_wheel(1)
+        row(Q_RAIL_X) = p%point_rail(1) + sin(psi) * arm
+      end if
     end associate
   end subroutine tabulate_node
 
   !> Wheelset height z at which `part` touches the rail (signed maximum penetration 0).
   !> found = .false. when no rail line lies under the part.
-  subroutine touch_height(part, rail, y, phi, z, found, error)
+  subroutine touch_height(part, rail, y, phi, psi, z, found, error)
     type(wheel_surface_t), intent(in) :: part
     type(rail_surface_t), intent(in) :: rail
-    real(wp), intent(in) :: y, phi
+    real(wp), intent(in) :: y, phi, psi
     real(wp), intent(out) :: z
     logical, intent(out) :: found
     type(error_t), allocatable, intent(out) :: error
@@ -490,7 +588,7 @@ contains
     real(wp) function signed_depth(zz)
       real(wp), intent(in) :: zz
       type(wheel_contact_t) :: r
-      call strip_wheel_contact(part, rail, y, zz, phi, 0.0_wp, r)
+      call strip_wheel_contact(part, rail, y, zz, phi, psi, r)
       signed_depth = r%max_penetration
     end function signed_depth
   end subroutine touch_height
@@ -532,18 +630,18 @@ contains
     end function end_slope
   end subroutine pchip_slopes
 
-  !> The left wheel's contact from the table for the wheelset pose (y, z, phi, psi). The
-  !> table is at zero yaw; the yaw enters through the exact position of the wheel's
-  !> reference point and a first-order lead correction (below).
+  !> The left wheel's contact from the table for the wheelset pose (y, z, phi, psi): the roll
+  !> table at zero yaw plus the yaw table's change (header), with the exact position of the
+  !> wheel's reference point.
   !> Outside the table's shift range: no patch and max_penetration = -huge (the wheelset
   !> provider reports it as "no rail under the wheel").
   pure subroutine table_wheel_contact(table, y, z, phi, psi, res)
     type(contact_table_t), intent(in) :: table
     real(wp), intent(in) :: y, z, phi, psi
     type(wheel_contact_t), intent(out) :: res
-    real(wp) :: u, zref, yref, xref, slope, lead, x, t, hb(4), v(TABLE_QUANTITIES), phic, s, pv(TABLE_QUANTITIES, 4), delta
-    real(wp) :: db(4)
-    integer :: iu, ip, k, slot, kk
+    real(wp) :: u, zref, yref, xref, x, t, hb(4), v(TABLE_QUANTITIES), phic, s, a, pv(TABLE_QUANTITIES, 4), delta
+    real(wp) :: db(4), da(4), parity(TABLE_QUANTITIES)
+    integer :: iu, ip, iy, k, slot, kk
     res%n_patches = 0
     res%max_penetration = -huge(1.0_wp)
     if (.not. allocated(table%values)) return
@@ -561,31 +659,40 @@ contains
     s = (phic - table%phi0) / table%dphi
     ip = min(int(s) + 1, table%nphi - 1)
     s = s - (ip - 1)
+    db = [(2 * s - 3) * s * s + 1, s * s * (3 - 2 * s), ((s - 2) * s + 1) * s, s * s * (s - 1)]
+    ! |psi| clamped to the yaw table's range, its interval and Hermite basis
+    a = min(abs(psi), (table%npsi - 1) * table%dpsi) / table%dpsi
+    iy = min(int(a) + 1, table%npsi - 1)
+    a = a - (iy - 1)
+    da = [(2 * a - 3) * a * a + 1, a * a * (3 - 2 * a), ((a - 2) * a + 1) * a, a * a * (a - 1)]
     zref = z + table%y_tape * sin(phi) - table%r0 * cos(phi)
     do slot = 1, TABLE_SLOTS
       ! values at the roll nodes ip-1 .. ip+2 (clamped), interpolated in u
       do k = 1, 4
-        kk = min(max(ip - 2 + k, 1), table%nphi)
-        pv(:, k) = hb(1) * table%values(iu, kk, :, slot) + hb(2) * table%values(iu + 1, kk, :, slot) + &
-                   hb(3) * table%slopes(iu, kk, :, slot) + hb(4) * table%slopes(iu + 1, kk, :, slot)
+        pv(:, k) = along_u(table%values, table%slopes, min(max(ip - 2 + k, 1), table%nphi))
       end do
       ! Hermite in roll with central-difference slopes (one-sided at the table's ends)
-      db = [(2 * s - 3) * s * s + 1, s * s * (3 - 2 * s), ((s - 2) * s + 1) * s, s * s * (s - 1)]
-      v = db(1) * pv(:, 2) + db(2) * pv(:, 3) + db(3) * roll_slope(ip) + db(4) * roll_slope(ip + 1)
-      ! yaw: a rail line crossing a yawed cone of slope k = tan(gamma) at distance rho from
-      ! the axle is deepest rho k psi ahead of the wheel's lowest point, rho k^2 psi^2 / 2
-      ! deeper than at zero yaw (depth r(y - t psi) - sqrt(rho^2 + t^2), maximised in t):
-      ! the flange lead and its earlier touch (theory doc, "Contact tables")
-      ! (k at most the wheel's steepest cone, the flange angle: a slot far from contact has
-      ! its closest approach on the rail's vertical gauge face, 1.55 rad, where tan(gamma)
-      ! is no wheel cone and made a lead of metres and a phantom patch)
-      slope = tan(v(Q_ANGLE))
-      slope = sign(min(abs(slope), table%yaw_slope_max), slope)
-      lead = -v(Q_RADIUS) * slope * psi
+      v = db(1) * pv(:, 2) + db(2) * pv(:, 3) + db(3) * node_slope(ip, ip, table%nphi, .false.) + &
+          db(4) * node_slope(ip + 1, ip, table%nphi, .false.)
+      ! the yaw's change at the yaw nodes iy-1 .. iy+2: below psi = 0 the mirror node by the
+      ! quantity's parity, clamped at the table's end
+      do k = 1, 4
+        kk = iy - 2 + k
+        parity = 1
+        if (kk < 1) then
+          kk = 2 - kk
+          parity = yaw_parity
+        end if
+        pv(:, k) = parity * along_u(table%yaw_change, table%yaw_slopes, min(kk, table%npsi))
+      end do
+      ! odd quantities take the yaw's sign
+      parity = merge(1.0_wp, sign(1.0_wp, psi), yaw_parity > 0)
+      v = v + parity * (da(1) * pv(:, 2) + da(2) * pv(:, 3) + da(3) * node_slope(iy, iy, table%npsi, .true.) + &
+                        da(4) * node_slope(iy + 1, iy, table%npsi, .true.))
       ! cos(gamma) floored as in the build: far from contact a slot's interpolated angle may
       ! pass the vertical (the face slot's closest approach is then on the rail's gauge face),
       ! where cos < 0 made a negative overlap a positive approach: a phantom patch
-      delta = (v(Q_HEIGHT) + 0.5_wp * v(Q_RADIUS) * (slope * psi)**2 - zref) * max(cos(v(Q_ANGLE)), 0.05_wp)
+      delta = (v(Q_HEIGHT) - zref) * max(cos(v(Q_ANGLE)), 0.05_wp)
       res%max_penetration = max(res%max_penetration, delta)
       if (delta <= 0) cycle
       res%n_patches = res%n_patches + 1
@@ -594,8 +701,8 @@ contains
         p%penetration = delta
         p%contact_angle = v(Q_ANGLE)
         p%normal = [0.0_wp, sin(v(Q_ANGLE)), cos(v(Q_ANGLE))]
-        p%point_rail = [xref + lead, yref + v(Q_RAIL_DY), v(Q_RAIL_Z)]
-        p%point_wheel = [lead, v(Q_WHEEL_Y), v(Q_WHEEL_Z)]
+        p%point_rail = [xref + v(Q_RAIL_X), yref + v(Q_RAIL_DY), v(Q_RAIL_Z)]
+        p%point_wheel = [v(Q_WHEEL_X), v(Q_WHEEL_Y), v(Q_WHEEL_Z)]
         p%s_wheel = v(Q_S_WHEEL)
         p%u_rail = v(Q_U_RAIL)
         p%u_rail_min = v(Q_U_RAIL)
@@ -610,16 +717,29 @@ contains
       end associate
     end do
   contains
-    pure function roll_slope(j) result(d)
-      integer, intent(in) :: j     ! roll node ip (k = 2) or ip + 1 (k = 3)
+    !> A column j of a table (values, u-slopes) of this slot interpolated at u.
+    pure function along_u(values, slopes, j) result(w)
+      real(wp), intent(in) :: values(:, :, :, :), slopes(:, :, :, :)
+      integer, intent(in) :: j
+      real(wp) :: w(TABLE_QUANTITIES)
+      w = hb(1) * values(iu, j, :, slot) + hb(2) * values(iu + 1, j, :, slot) + &
+          hb(3) * slopes(iu, j, :, slot) + hb(4) * slopes(iu + 1, j, :, slot)
+    end function along_u
+
+    !> Central-difference slope (per node step) at node j over pv, whose column 2 is node i0:
+    !> one-sided at the last node n, and at node 1 unless the table is `mirrored` below it
+    !> (the yaw: column 1 then holds the ghost node at -dpsi).
+    pure function node_slope(j, i0, n, mirrored) result(d)
+      integer, intent(in) :: j, i0, n
+      logical, intent(in) :: mirrored
       real(wp) :: d(TABLE_QUANTITIES)
       integer :: kc, lo, hi
-      kc = j - ip + 2
+      kc = j - i0 + 2
       lo = kc - 1; hi = kc + 1
-      if (j == 1) lo = kc
-      if (j == table%nphi) hi = kc
+      if (j == 1 .and. .not. mirrored) lo = kc
+      if (j == n) hi = kc
       d = (pv(:, hi) - pv(:, lo)) / (hi - lo)
-    end function roll_slope
+    end function node_slope
   end subroutine table_wheel_contact
 
   pure function slot_name(slot) result(name)

@@ -27,7 +27,7 @@ module rd_contact_table_cache
   public :: obtain_contact_table, contact_table_key, contact_table_cache_dir, contact_table_file
 
   !> Change whenever the table's content or meaning changes (code version of the format).
-  character(len=*), parameter :: TABLE_FORMAT = 'raildyn contact table 2'
+  character(len=*), parameter :: TABLE_FORMAT = 'raildyn contact table 3'
 
   interface
     function c_mkdir(path, mode) result(status) bind(C, name='mkdir')
@@ -95,7 +95,7 @@ contains
     call add_text(h, TABLE_FORMAT)
     call add_reals(h, [options%shift_max, options%shift_step, options%roll_max, real(options%roll_nodes, wp), &
                        options%reference_approach, options%slot_angle, options%root_angle, &
-                       options%face_angle])
+                       options%face_angle, options%yaw_max, real(options%yaw_nodes, wp)])
     call add_reals(h, [real(wheel%n, wp), wheel%nominal_radius, wheel%y_tape])
     call add_reals(h, wheel%s); call add_reals(h, wheel%y); call add_reals(h, wheel%r)
     call add_reals(h, wheel%slope); call add_reals(h, wheel%kappa)
@@ -137,28 +137,30 @@ contains
     logical, intent(out) :: found
     character(len=len(TABLE_FORMAT)) :: format_read
     character(len=16) :: key_read
-    integer :: unit, ios, nu, nphi, nq, ns
+    integer :: unit, ios, nu, nphi, npsi, nq, ns
     logical :: exists
     found = .false.
     inquire (file=file, exist=exists)
     if (.not. exists) return
     open (newunit=unit, file=file, access='stream', form='unformatted', status='old', action='read', iostat=ios)
     if (ios /= 0) return
-    read (unit, iostat=ios) format_read, key_read, nu, nphi, nq, ns
+    read (unit, iostat=ios) format_read, key_read, nu, nphi, npsi, nq, ns
     if (ios /= 0 .or. format_read /= TABLE_FORMAT .or. key_read /= key .or. nq /= TABLE_QUANTITIES .or. &
-        ns /= TABLE_SLOTS .or. nu < 2 .or. nu > 100000 .or. nphi < 1 .or. nphi > 1000) then
+        ns /= TABLE_SLOTS .or. nu < 2 .or. nu > 100000 .or. nphi < 1 .or. nphi > 1000 .or. npsi < 2 .or. npsi > 1000) then
       close (unit)
       return
     end if
     table%nu = nu
     table%nphi = nphi
+    table%npsi = npsi
     allocate (table%values(nu, nphi, nq, ns), table%slopes(nu, nphi, nq, ns))
+    allocate (table%yaw_change(nu, npsi, nq, ns), table%yaw_slopes(nu, npsi, nq, ns))
     read (unit, iostat=ios) table%options, table%y_tape, table%r0, table%s_cut, table%s_root_end, &
-      table%s_face_start, table%yaw_slope_max, table%u0, table%du, &
-      table%phi0, table%dphi, table%values, table%slopes
+      table%s_face_start, table%u0, table%du, table%phi0, table%dphi, table%dpsi, table%values, table%slopes, &
+      table%yaw_change, table%yaw_slopes
     close (unit)
     if (ios /= 0) then
-      deallocate (table%values, table%slopes)
+      deallocate (table%values, table%slopes, table%yaw_change, table%yaw_slopes)
       return
     end if
     found = .true.
@@ -176,9 +178,10 @@ contains
     open (newunit=unit, file=temporary, access='stream', form='unformatted', status='replace', action='write', &
           iostat=ios)
     if (ios /= 0) return
-    write (unit, iostat=ios) TABLE_FORMAT, key, table%nu, table%nphi, TABLE_QUANTITIES, TABLE_SLOTS
+    write (unit, iostat=ios) TABLE_FORMAT, key, table%nu, table%nphi, table%npsi, TABLE_QUANTITIES, TABLE_SLOTS
     if (ios == 0) write (unit, iostat=ios) table%options, table%y_tape, table%r0, table%s_cut, table%s_root_end, &
-      table%s_face_start, table%yaw_slope_max, table%u0, table%du, table%phi0, table%dphi, table%values, table%slopes
+      table%s_face_start, table%u0, table%du, table%phi0, table%dphi, table%dpsi, table%values, table%slopes, &
+      table%yaw_change, table%yaw_slopes
     if (ios /= 0) then
       close (unit, status='delete')
       return

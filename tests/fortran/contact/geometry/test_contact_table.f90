@@ -325,42 +325,57 @@ contains
   end subroutine a22_through_table
 
   !> How much the angle of attack moves the contact (online strips) and what the table's
-  !> yaw terms make of it: per shift and yaw, the change of the touch height from zero yaw
-  !> (strips, table), the wheel point's x (strips, table) and the unit-force error at 20 um.
+  !> yaw table makes of it: per shift, yaw and roll, the change of the touch height from zero
+  !> yaw (strips, table), the wheel point's x (strips, table) and the unit-force error at 20 um.
+  !> The yaw table is built at zero roll: at a roll the table adds the change at zero roll.
   subroutine yaw_measurement()
     real(wp), parameter :: shifts(7) = [0.0_wp, 2.0e-3_wp, 4.0e-3_wp, 5.5e-3_wp, 7.0e-3_wp, 9.0e-3_wp, 1.1e-2_wp]
-    real(wp), parameter :: yaws(3) = [5.0e-3_wp, 1.0e-2_wp, -1.5e-2_wp]
+    real(wp), parameter :: yaws(6) = [5.0e-3_wp, 1.0e-2_wp, -1.5e-2_wp, 2.07e-2_wp, -3.0e-2_wp, 4.2e-2_wp]
+    real(wp), parameter :: rolls(2) = [0.0_wp, 1.2e-2_wp]
     type(wheel_contact_t) :: r1, rt
-    real(wp) :: z0, z1, zt0, zt1, e, err_h, err_x, err_f, dh_max
-    integer :: i, j, ks, kt
+    real(wp) :: z0, z1, zt0, zt1, e, err_h(2), err_x(2), err_f(2), dh_max
+    integer :: i, j, l, ks, kt
     err_h = 0; err_x = 0; err_f = 0; dh_max = 0
-    write (*, '(a)') 'yaw (left wheel): shift [mm], yaw [mrad], d(touch height) strips, table [um], ' // &
+    write (*, '(a)') 'yaw (left wheel): roll [mrad], shift [mm], yaw [mrad], d(touch height) strips, table [um], ' // &
       'wheel point x strips, table [mm], force error at 20 um'
-    do i = 1, size(shifts)
-      z0 = touch_z(strip, shifts(i), 0.0_wp, 0.0_wp)
-      zt0 = touch_z(table, shifts(i), 0.0_wp, 0.0_wp)
-      do j = 1, size(yaws)
-        z1 = touch_z(strip, shifts(i), 0.0_wp, yaws(j))
-        zt1 = touch_z(table, shifts(i), 0.0_wp, yaws(j))
-        call wheel_contact(strip, SIDE_LEFT, shifts(i), z1 - 2.0e-5_wp, 0.0_wp, yaws(j), r1)
-        call wheel_contact(table, SIDE_LEFT, shifts(i), z1 - 2.0e-5_wp, 0.0_wp, yaws(j), rt)
-        ks = deepest(r1); kt = deepest(rt)
-        e = maxval(abs(unit_force(rt) - unit_force(r1))) / 2.0e-5_wp**1.5_wp
-        write (*, '(f6.1,f7.1,2f10.3,2f9.3,f9.4)') 1e3 * shifts(i), 1e3 * yaws(j), 1e6 * (z1 - z0), 1e6 * (zt1 - zt0), &
-          1e3 * r1%patch(ks)%point_wheel(1), 1e3 * rt%patch(kt)%point_wheel(1), e
-        dh_max = max(dh_max, abs(z1 - z0))
-        err_h = max(err_h, abs((zt1 - zt0) - (z1 - z0)))
-        err_x = max(err_x, abs(r1%patch(ks)%point_wheel(1) - rt%patch(kt)%point_wheel(1)))
-        err_f = max(err_f, e)
+    do l = 1, size(rolls)
+      do i = 1, size(shifts)
+        z0 = touch_z(strip, shifts(i), rolls(l), 0.0_wp)
+        zt0 = touch_z(table, shifts(i), rolls(l), 0.0_wp)
+        do j = 1, size(yaws)
+          z1 = touch_z(strip, shifts(i), rolls(l), yaws(j))
+          zt1 = touch_z(table, shifts(i), rolls(l), yaws(j))
+          call wheel_contact(strip, SIDE_LEFT, shifts(i), z1 - 2.0e-5_wp, rolls(l), yaws(j), r1)
+          call wheel_contact(table, SIDE_LEFT, shifts(i), z1 - 2.0e-5_wp, rolls(l), yaws(j), rt)
+          ks = deepest(r1); kt = deepest(rt)
+          e = maxval(abs(unit_force(rt) - unit_force(r1))) / 2.0e-5_wp**1.5_wp
+          write (*, '(f6.1,f6.1,f7.1,2f10.3,2f9.3,f9.4)') 1e3 * rolls(l), 1e3 * shifts(i), 1e3 * yaws(j), &
+            1e6 * (z1 - z0), 1e6 * (zt1 - zt0), 1e3 * r1%patch(ks)%point_wheel(1), 1e3 * rt%patch(kt)%point_wheel(1), e
+          dh_max = max(dh_max, abs(z1 - z0))
+          err_h(l) = max(err_h(l), abs((zt1 - zt0) - (z1 - z0)))
+          err_x(l) = max(err_x(l), abs(r1%patch(ks)%point_wheel(1) - rt%patch(kt)%point_wheel(1)))
+          err_f(l) = max(err_f(l), e)
+        end do
       end do
+      write (*, '(a,f5.1,a,f8.3,a,f7.3,a,f7.4)') 'roll ', 1e3 * rolls(l), ' mrad: the yaw table follows the strips'' ' // &
+        'touch height within ', 1e6 * err_h(l), ' um, the wheel point x within ', 1e3 * err_x(l), ' mm, force error ', &
+        err_f(l)
     end do
-    write (*, '(a,f8.3,a,f8.3,a,f7.3,a,f7.4)') 'yaw moves the touch height by up to ', 1e6 * dh_max, &
-      ' um; the table''s yaw terms follow it within ', 1e6 * err_h, ' um, the wheel point x within ', 1e3 * err_x, &
-      ' mm, force error ', err_f
-    ! bounds: the measured 11.7 um, 0.71 mm, 0.138 (7 mm shift, 15 mrad, the flange lead's
-    ! second-order terms), rounded up
-    call check(err_h < 15.0e-6_wp, 'yaw: the table''s touch height follows the strips'' within 15 um (up to 15 mrad)')
-    call check(err_x < 1.0e-3_wp, 'yaw: the table''s contact lead follows the strips'' within 1 mm')
-    call check(err_f < 0.15_wp, 'yaw: force error within 0.15 tread forces at 20 um (up to 15 mrad)')
+    write (*, '(a,f9.3,a)') 'yaw moves the touch height by up to ', 1e6 * dh_max, ' um'
+    ! bounds, up to 42 mrad: at zero roll the measured 1.68 um, 0.198 mm, 0.0236 (7 mm shift,
+    ! -30 mrad: the flange contact 39 mm ahead of the axle), rounded up; the first-order
+    ! yaw terms the yaw table replaced gave 11.7 um, 0.71 mm and 0.138 up to 15 mrad and put
+    ! the flange's touch up to 290 um low at 20.7 mrad
+    call check(err_h(1) < 2.5e-6_wp, 'yaw: the table''s touch height follows the strips'' within 2.5 um (to 42 mrad)')
+    call check(err_x(1) < 3.0e-4_wp, 'yaw: the table''s contact lead follows the strips'' within 0.3 mm')
+    call check(err_f(1) < 0.035_wp, 'yaw: force error within 0.035 tread forces at 20 um (to 42 mrad)')
+    ! at 12 mrad of roll the table adds the yaw's change at zero roll: measured 79.2 um and
+    ! 3.09 (4 mm shift, 42 mrad; up to 20.7 mrad 25 um and 0.59), rounded up; the first-order
+    ! yaw terms it replaced gave 442 um and 26.4. (A first-order roll coupling of the change
+    ! measured 31 um and 0.68 here but made the flange-climb scene's quasi-static balance fail
+    ! at 0.50 s: not used. The wheel point x is not compared at this roll: at some of these
+    ! poses the table's deepest patch is another slot's.)
+    call check(err_h(2) < 90.0e-6_wp, 'yaw at 12 mrad of roll: touch height within 90 um (to 42 mrad)')
+    call check(err_f(2) < 3.5_wp, 'yaw at 12 mrad of roll: force error within 3.5 tread forces at 20 um (to 42 mrad)to 42 mrad)')
   end subroutine yaw_measurement
 end program test_contact_table
