@@ -14,7 +14,7 @@ module rd_cmd_hertz
   use rd_text, only: int_text, sci_text
   use rd_kinds, only: wp
   use rd_error, only: error_t
-  use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_init, hertz_from_force, hertz_from_penetration
+  use rd_hertz, only: hertz_params_t, hertz_patch_t, build_hertz, hertz_from_force, hertz_from_penetration
   implicit none
   private
   public :: run_hertz_command, hertz_usage
@@ -113,7 +113,7 @@ contains
     if (have_force .and. .not. (force > 0.0_wp)) then
       call bad('--normal-force must be > 0 N'); return
     end if
-    call hertz_init(params, error, young_wheel=young, poisson_wheel=poisson, method=method, &
+    call build_hertz(params, error, young_wheel=young, poisson_wheel=poisson, method=method, &
                     max_equivalent_radius=rmax)
     if (allocated(error)) then
       call bad(error%message); return

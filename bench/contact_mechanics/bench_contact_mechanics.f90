@@ -46,8 +46,8 @@ program bench_contact_mechanics
       err(j, k) = 100.0_wp * (got(col_comp(j)) / row_force(col_comp(j), col_row(j)) - 1.0_wp)
     end do
   end do
-  call hertz_init(hp, error)
-  call hertz_init(hp_table, error, method='table')
+  call build_hertz(hp, error)
+  call build_hertz(hp_table, error, method='table')
   t_hertz(1) = time_hertz(hp, .true.)
   t_hertz(2) = time_hertz(hp, .false.)
   t_hertz(3) = time_hertz(hp_table, .true.)

@@ -16,7 +16,7 @@ program bench_hertz_tables
   use, intrinsic :: iso_fortran_env, only: int64
   use rd_kinds, only: wp
   use rd_error, only: error_t
-  use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_init, hertz_from_penetration
+  use rd_hertz, only: hertz_params_t, hertz_patch_t, build_hertz, hertz_from_penetration
   use rd_profile, only: profile_t
   use rd_profile_source, only: load_wheel_profile, load_rail_profile
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
@@ -37,7 +37,7 @@ program bench_hertz_tables
   real(wp) :: err(3, n_sizes), t_elliptic, t_table(n_sizes), checksum, t_strip, t_tab
   integer :: k, i
 
-  call hertz_init(hp, error)
+  call build_hertz(hp, error)
   if (allocated(error)) error stop error%message
   allocate (ratios(n_samples))
   do i = 1, n_samples

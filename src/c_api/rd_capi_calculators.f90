@@ -6,7 +6,7 @@ module rd_capi_calculators
                                          c_associated, c_f_pointer
   use rd_kinds, only: wp
   use rd_error, only: error_t, RD_OK, RD_ERR_INPUT
-  use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_init, hertz_from_force, hertz_from_penetration
+  use rd_hertz, only: hertz_params_t, hertz_patch_t, build_hertz, hertz_from_force, hertz_from_penetration
   use rd_creep_law, only: creep_law_t, creep_patch_t, creepage_t, creep_force_t, creep_law_options_t, &
                           validate_patch
   use rd_creep_factory, only: build_creep_law
@@ -53,7 +53,7 @@ contains
     call c_f_pointer(curvatures_c, curvatures, [4])
     call c_f_pointer(warning_c, warning)
     if (load_kind /= 0 .and. load_kind /= 1) return
-    call hertz_init(params, error, young_wheel=real(young_modulus, wp), poisson_wheel=real(poisson_ratio, wp))
+    call build_hertz(params, error, young_wheel=real(young_modulus, wp), poisson_wheel=real(poisson_ratio, wp))
     if (allocated(error)) return
     if (load_kind == 0) then
       call hertz_from_force(params, real(curvatures, wp), real(load, wp), patch)

@@ -2,7 +2,7 @@
 !> peak pressure and normal stiffness from the principal curvatures at the contact point
 !> (thesis 3.5, eqs. 3.25-3.32; derivation and corrections in docs/theory_contact_mechanics.md).
 !>
-!> Shape: `hertz_init` fixes the parameters (materials, method, fallback radius); the two
+!> Shape: `build_hertz` fixes the parameters (materials, method, fallback radius); the two
 !> pure entry points `hertz_from_penetration` and `hertz_from_force` fill a `hertz_patch_t`
 !> and allocate nothing, so they can run per contact patch in the right-hand side.
 !>
@@ -16,7 +16,7 @@ module rd_hertz
   implicit none
   private
   public :: hertz_params_t, hertz_patch_t
-  public :: hertz_init, hertz_from_penetration, hertz_from_force, hertz_damped_force
+  public :: build_hertz, hertz_from_penetration, hertz_from_force, hertz_damped_force
   public :: hertz_table_mn
 
   integer, parameter, public :: HERTZ_METHOD_ELLIPTIC = 1  !< exact: AGM elliptic integrals
@@ -29,7 +29,7 @@ module rd_hertz
   integer, parameter, public :: HERTZ_WARN_ELONGATED = 4        !< a/b outside [0.1, 10] (beyond Kalker's table)
   integer, parameter, public :: HERTZ_WARN_BAD_INPUT = 8        !< NaN/Inf curvature or load: patch set to zero
 
-  !> Parameters fixed after `hertz_init`.
+  !> Parameters fixed after `build_hertz`.
   type :: hertz_params_t
     !> Combined modulus E* = 1 / (K_w + K_r), K = (1 - nu^2)/E (thesis eq. 3.27) [Pa]
     real(wp) :: e_star = 0.0_wp
@@ -83,7 +83,7 @@ contains
   !> `method` is 'elliptic' (default) or 'table'; `max_equivalent_radius` [m] bounds the
   !> equivalent radius 1/(2A) per direction for conformal or concave contact (default 10 m).
   !> `shear_modulus` [Pa] instead of Young's moduli gives both bodies E = 2 G (1 + nu).
-  subroutine hertz_init(params, error, young_wheel, poisson_wheel, young_rail, poisson_rail, &
+  subroutine build_hertz(params, error, young_wheel, poisson_wheel, young_rail, poisson_rail, &
                         method, max_equivalent_radius, shear_modulus)
     type(hertz_params_t), intent(out) :: params
     type(error_t), allocatable, intent(out) :: error
@@ -100,7 +100,7 @@ contains
     er = ew; if (present(young_rail)) er = young_rail
     if (present(shear_modulus)) then
       if (present(young_wheel) .or. present(young_rail)) then
-        call make_error(error, RD_ERR_INPUT, 'hertz_init: give Young''s moduli or the shear modulus, not both')
+        call make_error(error, RD_ERR_INPUT, 'build_hertz: give Young''s moduli or the shear modulus, not both')
         return
       end if
       ew = 2.0_wp * shear_modulus * (1.0_wp + nw)
@@ -110,22 +110,22 @@ contains
     word = 'elliptic'; if (present(method)) word = adjustl(method)
 
     if (.not. (ew > 0.0_wp .and. er > 0.0_wp .and. ew < 1.0e15_wp .and. er < 1.0e15_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'hertz_init: Young''s modulus must be > 0 Pa (finite)')
+      call make_error(error, RD_ERR_INPUT, 'build_hertz: Young''s modulus must be > 0 Pa (finite)')
       return
     end if
     if (.not. (nw >= 0.0_wp .and. nw < 0.5_wp .and. nr >= 0.0_wp .and. nr < 0.5_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'hertz_init: Poisson ratio must be in [0, 0.5)')
+      call make_error(error, RD_ERR_INPUT, 'build_hertz: Poisson ratio must be in [0, 0.5)')
       return
     end if
     if (.not. (rmax > 0.0_wp .and. rmax < 1.0e12_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'hertz_init: max_equivalent_radius must be > 0 m')
+      call make_error(error, RD_ERR_INPUT, 'build_hertz: max_equivalent_radius must be > 0 m')
       return
     end if
     select case (trim(word))
     case ('elliptic'); params%method = HERTZ_METHOD_ELLIPTIC
     case ('table'); params%method = HERTZ_METHOD_TABLE
     case default
-      call make_error(error, RD_ERR_INPUT, 'hertz_init: hertz_method "' // trim(word) // &
+      call make_error(error, RD_ERR_INPUT, 'build_hertz: hertz_method "' // trim(word) // &
                       '" unknown; expected ''elliptic'' or ''table''')
       return
     end select
@@ -135,7 +135,7 @@ contains
     params%shear_modulus = 2.0_wp / (1.0_wp / gw + 1.0_wp / gr)
     params%poisson = 0.5_wp * params%shear_modulus * (nw / gw + nr / gr)
     params%curvature_min = 0.5_wp / rmax
-  end subroutine hertz_init
+  end subroutine build_hertz
 
   !> Patch from the approach delta [m] (delta <= 0: no contact, all zero).
   !> curvatures = [kappa_wheel_x, kappa_wheel_y, kappa_rail_x, kappa_rail_y] [1/m].

@@ -14,7 +14,7 @@ module rd_wheelset_contact_spec
   use rd_contact_geometry, only: contact_geometry_t, build_strip_contact, build_knife_edge_contact, &
                                  build_table_contact, SIDE_LEFT, SIDE_RIGHT
   use rd_contact_table, only: contact_table_options_t
-  use rd_hertz, only: hertz_params_t, hertz_init
+  use rd_hertz, only: hertz_params_t, build_hertz
   use rd_creep_law, only: creep_law_options_t
   use rd_creepage, only: default_creep_v0
   implicit none
@@ -236,7 +236,7 @@ contains
     real(wp) :: e
     e = spec%young_modulus
     if (.not. (e > 0)) e = 2 * spec%shear_modulus * (1 + spec%poisson)
-    call hertz_init(params, error, young_wheel=e, poisson_wheel=spec%poisson, young_rail=e, &
+    call build_hertz(params, error, young_wheel=e, poisson_wheel=spec%poisson, young_rail=e, &
                     poisson_rail=spec%poisson, method=trim(spec%hertz_method), &
                     max_equivalent_radius=spec%max_equivalent_radius)
     if (allocated(error)) call error_context(error, 'build_hertz_params')

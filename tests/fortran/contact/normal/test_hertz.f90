@@ -31,9 +31,9 @@ program test_hertz
   call check_close(ee, pi / 2, 1.0e-15_wp, 'E(0)')
 
   ! --- m, n against the oracle table for every theta listed
-  call hertz_init(params, error, young_wheel=210.0e9_wp, poisson_wheel=0.28_wp)
+  call build_hertz(params, error, young_wheel=210.0e9_wp, poisson_wheel=0.28_wp)
   if (allocated(error)) call fail_now(error%message)
-  call hertz_init(params_table, error, young_wheel=210.0e9_wp, poisson_wheel=0.28_wp, method='table')
+  call build_hertz(params_table, error, young_wheel=210.0e9_wp, poisson_wheel=0.28_wp, method='table')
   if (allocated(error)) call fail_now(error%message)
   do i = 1, size(theta_deg)
     c = cos(theta_deg(i) * pi / 180.0_wp)
@@ -135,15 +135,15 @@ program test_hertz
   call check(hertz_damped_force(1000.0_wp, 1.0e4_wp, -0.05_wp) == 500.0_wp, 'damping unbounded below N_el when opening')
 
   ! --- bad parameters
-  call hertz_init(params, error, young_wheel=-1.0_wp)
+  call build_hertz(params, error, young_wheel=-1.0_wp)
   if (.not. allocated(error)) call fail('negative E must be refused')
-  call hertz_init(params, error, method='spline')
+  call build_hertz(params, error, method='spline')
   if (.not. allocated(error)) call fail('unknown method must be refused')
   ! default material G = 82 GPa, nu = 0.28
-  call hertz_init(params, error)
+  call build_hertz(params, error)
   call check_close(params%shear_modulus, 82.0e9_wp, 1.0e-12_wp, 'default G')
   call check_close(params%poisson, 0.28_wp, 1.0e-12_wp, 'default nu')
-  call hertz_init(params, error, shear_modulus=80.0e9_wp, poisson_wheel=0.3_wp)
+  call build_hertz(params, error, shear_modulus=80.0e9_wp, poisson_wheel=0.3_wp)
   call check_close(params%e_star, 2.0_wp * 80.0e9_wp * 1.3_wp / (2.0_wp * (1.0_wp - 0.09_wp)), 1.0e-12_wp, 'G given: E*')
   call check_close(params%shear_modulus, 80.0e9_wp, 1.0e-12_wp, 'G given: G')
 
