@@ -640,7 +640,7 @@ contains
     real(wp), intent(in) :: y, z, phi, psi
     type(wheel_contact_t), intent(out) :: res
     real(wp) :: u, zref, yref, xref, x, t, hb(4), v(TABLE_QUANTITIES), phic, s, a, pv(TABLE_QUANTITIES, 4), delta
-    real(wp) :: db(4), da(4), parity(TABLE_QUANTITIES)
+    real(wp) :: db(4), da(4), parity(TABLE_QUANTITIES), yaw_sign(TABLE_QUANTITIES)
     integer :: iu, ip, iy, k, slot, kk
     res%n_patches = 0
     res%max_penetration = -huge(1.0_wp)
@@ -665,6 +665,8 @@ contains
     iy = min(int(a) + 1, table%npsi - 1)
     a = a - (iy - 1)
     da = [(2 * a - 3) * a * a + 1, a * a * (3 - 2 * a), ((a - 2) * a + 1) * a, a * a * (a - 1)]
+    ! the odd quantities' change takes the yaw's sign
+    yaw_sign = merge(1.0_wp, sign(1.0_wp, psi), yaw_parity > 0)
     zref = z + table%y_tape * sin(phi) - table%r0 * cos(phi)
     do slot = 1, TABLE_SLOTS
       ! values at the roll nodes ip-1 .. ip+2 (clamped), interpolated in u
@@ -672,8 +674,8 @@ contains
         pv(:, k) = along_u(table%values, table%slopes, min(max(ip - 2 + k, 1), table%nphi))
       end do
       ! Hermite in roll with central-difference slopes (one-sided at the table's ends)
-      v = db(1) * pv(:, 2) + db(2) * pv(:, 3) + db(3) * node_slope(ip, ip, table%nphi, .false.) + &
-          db(4) * node_slope(ip + 1, ip, table%nphi, .false.)
+      v = db(1) * pv(:, 2) + db(2) * pv(:, 3) + db(3) * node_slope(2, ip, table%nphi, .false.) + &
+          db(4) * node_slope(3, ip + 1, table%nphi, .false.)
       ! the yaw's change at the yaw nodes iy-1 .. iy+2: below psi = 0 the mirror node by the
       ! quantity's parity, clamped at the table's end
       do k = 1, 4
@@ -685,10 +687,8 @@ contains
         end if
         pv(:, k) = parity * along_u(table%yaw_change, table%yaw_slopes, min(kk, table%npsi))
       end do
-      ! odd quantities take the yaw's sign
-      parity = merge(1.0_wp, sign(1.0_wp, psi), yaw_parity > 0)
-      v = v + parity * (da(1) * pv(:, 2) + da(2) * pv(:, 3) + da(3) * node_slope(iy, iy, table%npsi, .true.) + &
-                        da(4) * node_slope(iy + 1, iy, table%npsi, .true.))
+      v = v + yaw_sign * (da(1) * pv(:, 2) + da(2) * pv(:, 3) + da(3) * node_slope(2, iy, table%npsi, .true.) + &
+                          da(4) * node_slope(3, iy + 1, table%npsi, .true.))
       ! cos(gamma) floored as in the build: far from contact a slot's interpolated angle may
       ! pass the vertical (the face slot's closest approach is then on the rail's gauge face),
       ! where cos < 0 made a negative overlap a positive approach: a phantom patch
@@ -726,15 +726,14 @@ contains
           hb(3) * slopes(iu, j, :, slot) + hb(4) * slopes(iu + 1, j, :, slot)
     end function along_u
 
-    !> Central-difference slope (per node step) at node j over pv, whose column 2 is node i0:
-    !> one-sided at the last node n, and at node 1 unless the table is `mirrored` below it
+    !> Central-difference slope (per node step) at column kc of pv (2 or 3), which holds node
+    !> j: one-sided at the last node n, and at node 1 unless the table is `mirrored` below it
     !> (the yaw: column 1 then holds the ghost node at -dpsi).
-    pure function node_slope(j, i0, n, mirrored) result(d)
-      integer, intent(in) :: j, i0, n
+    pure function node_slope(kc, j, n, mirrored) result(d)
+      integer, intent(in) :: kc, j, n
       logical, intent(in) :: mirrored
       real(wp) :: d(TABLE_QUANTITIES)
-      integer :: kc, lo, hi
-      kc = j - i0 + 2
+      integer :: lo, hi
       lo = kc - 1; hi = kc + 1
       if (j == 1 .and. .not. mirrored) lo = kc
       if (j == n) hi = kc
