@@ -9,11 +9,13 @@ come from the table's interpolation and its one patch per slot (docs/theory_cont
 section 10). The four wheelsets share one table: one file in the cache directory, which the
 test points to its own tmp_path (RAILDYN_CACHE_DIR)."""
 import os
+import re
 import subprocess
 from pathlib import Path
 
 import h5py
 import numpy as np
+import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 EXE = Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build")).resolve() / "bin" / "raildyn"
@@ -121,3 +123,40 @@ def test_r80_flange_root_to_face_on_tables(tmp_path):
             fs, ft = strips[f"wheelsets/{w}/{side}/wheel"][()], table[f"wheelsets/{w}/{side}/wheel"][()]
             assert np.abs(fs[:, 2] - ft[:, 2]).max() < 2.5e3, (w, side, "Y")
             assert np.abs(fs[:, 3] - ft[:, 3]).max() < 1.0e3, (w, side, "Q")
+
+
+
+@pytest.mark.parametrize("radius, geometry", [(80.0, "table"), (150.0, "strips"), (200.0, "table")])
+def test_static_equilibrium_inside_a_curve_without_cant(tmp_path, radius, geometry):
+    """The static equilibrium of the TGV profile vehicle (bench/extremes/tgv_profile_vehicle.nml)
+    started 12 m into a curve without cant, on tables or strips. Built at their reference
+    height, the wheels touch at zero Hertz approach, without contact stiffness; the static
+    solve seats each wheelset on its rails before Newton (rd_static_preload). Without the
+    seat, Newton stalled on the wheelset yaws (1.8e3 rad/s^2 in R 80 m) and a wheel reached the
+    lift-off limit (exit 3) in each of these cases (R 100, 150, 200 m on both geometries too).
+    Oracle: the primary suspension aligns each wheelset with its bogie, so a wheelset yaws
+    against its own track frame by about a / R (a = 1.5 m, half the bogie wheelbase), positive
+    ahead of its bogie's centre (ws1, ws3), negative behind (measured 3-4 % off: the bogies'
+    own yaw and the primaries' longitudinal deflection), and the car body, a chord of the curve
+    between its bogies 18.7 m apart, sits inside by about 18.7^2 / (8 R) (measured 2.6-3 % more:
+    the bogies' own lateral deflection)."""
+    deck = tmp_path / "curve.nml"
+    deck.write_text(f"&include file = '{REPO / 'bench' / 'extremes' / 'tgv_profile_vehicle.nml'}' /\n"
+                    "&simulation t_end = 1.0, speed = 2.0, start_sigma = 32.0, equilibrium = 'preload' /\n"
+                    "&track gauge = 1.435, rail_inclination = 0.025 /\n"
+                    f"&segment type = 'clothoid', length = 20.0, radius = {radius}, side = 'right', cant = 0.0 /\n"
+                    f"&segment type = 'curve', length = 400.0, radius = {radius}, side = 'right', cant = 0.0 /\n"
+                    + "".join(f"&wheelset name = '{w}', contact_geometry = '{geometry}' /\n" for w in WHEELSETS))
+    env = dict(os.environ)
+    env.setdefault("RAILDYN_CACHE_DIR", str(tmp_path / "cache"))
+    res = subprocess.run([str(EXE), "check", str(deck)], capture_output=True, text=True, timeout=600, env=env)
+    assert res.returncode == 0, res.stderr
+    line = next(li for li in res.stdout.splitlines() if li.startswith("equilibrium"))
+    yaw = {ws: float(v) for ws, v in re.findall(r"(ws\d) [-\d.]+ mm \(x\), ([-\d.]+) mrad \(yaw\)", line)}
+    assert set(yaw) == {"ws1", "ws2", "ws3", "ws4"}, line
+    aligned = 1.5 / radius * 1e3
+    for ws, sign in (("ws1", 1), ("ws2", -1), ("ws3", 1), ("ws4", -1)):
+        assert abs(yaw[ws] - sign * aligned) < 0.05 * aligned + 0.2, (ws, yaw[ws], sign * aligned)
+    chord = 18.7 ** 2 / (8 * radius) * 1e3
+    car = float(re.search(r"car ([-\d.]+) mm \(y\)", line).group(1))
+    assert abs(car + chord) < 0.03 * chord + 5.0, (car, chord)

@@ -38,6 +38,16 @@
 !> of the other bodies are solved; the dynamics, started from this state, find the
 !> quasi-static curving position with the creep forces.
 !>
+!> Seating (`seated` bodies, the scene's wheelsets): a body built at its reference height
+!> touches the rails at zero approach, where the Hertz force k delta^(3/2) has no stiffness,
+!> so the first Jacobians have none in the vertical and Newton's minimum-norm steps wander
+!> (the TGV profile vehicle on contact tables in an uncanted R 80 m: the residual of the
+!> wheelset yaws, 1.8e3 rad/s^2, stalled and a wheel reached the lift-off limit). Before
+!> Newton each seated body's vertical position alone is solved (everything else fixed): its
+!> vertical acceleration is monotone in its height (more approach, more normal force), so
+!> a bracket found by doubling steps towards the acceleration and a safeguarded secant on it
+!> converge, and Newton then starts with the contact stiffness of the static load.
+!>
 !> Newton safeguards: coordinates move at most `max_step` per iteration, the step is halved
 !> while the residual norm grows or the pose cannot be evaluated (first Jacobian without
 !> contact stiffness: the profiles touch at a small gap), and an update below 1e-12 of
@@ -47,7 +57,7 @@ module rd_static_preload
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT, RD_ERR_RUNTIME
   use rd_multibody, only: multibody_t
-  use rd_body_spec, only: DOF_PITCH, deviation_from_spin
+  use rd_body_spec, only: DOF_Z, DOF_PITCH, deviation_from_spin
   use rd_speed_law, only: speed_law_t, constant_speed
   use rd_track_point, only: track_geometry_t
   use rd_level_straight_track, only: level_straight_track_t
@@ -218,8 +228,9 @@ contains
   !> the static equilibrium at time t with the speed taken as zero. `held(dof, ib)`: that
   !> coordinate keeps its value in y and its equation is left out (see the module header).
   !> `residual` is max |qddot| of the solved coordinates at the solution [m/s^2, rad/s^2];
-  !> convergence also requires the internal states' rates to vanish.
-  subroutine solve_static_positions(mb, t, y, residual, error, max_iterations, held)
+  !> convergence also requires the internal states' rates to vanish. `seated(ib)`: body ib
+  !> rests on the rails; its height is solved alone first (module header).
+  subroutine solve_static_positions(mb, t, y, residual, error, max_iterations, held, seated)
     type(multibody_t), intent(inout) :: mb
     real(wp), intent(in) :: t
     real(wp), intent(inout) :: y(:)
@@ -227,6 +238,7 @@ contains
     type(error_t), allocatable, intent(out) :: error
     integer, intent(in), optional :: max_iterations
     logical, intent(in), optional :: held(:, :)
+    logical, intent(in), optional :: seated(:)
     type(speed_law_t) :: saved
     real(wp), allocatable :: r(:), rp(:), rm(:), jac(:, :), b(:), s(:), work(:), yp(:)
     integer, allocatable :: iwork(:), unknown(:), equation(:)
@@ -281,6 +293,15 @@ contains
     mb%speed%s = saved%distance(t)
     y(n + 1:2 * n) = 0
     allocate (r(m), rp(m), rm(m), jac(m, m), b(m), s(m), yp(size(y)))
+    if (present(seated)) then
+      do ib = 1, min(size(seated), mb%body_count())
+        if (.not. seated(ib)) cycle
+        k = mb%free_index(DOF_Z, ib)
+        if (k == 0) cycle
+        call seat_body(k)
+        if (allocated(error)) goto 90
+      end do
+    end if
     call static_residual(y, r)
     if (allocated(error)) goto 90
     scale = max(1.0_wp, maxval(abs(r)))
@@ -351,6 +372,60 @@ contains
 90  mb%speed = saved
     if (allocated(error)) call error_context(error, 'static positions')
   contains
+    !> Height y(k) of one body at which its vertical acceleration ydot(n + k) vanishes, the
+    !> other unknowns fixed: bracket by steps doubling from 1 um towards the acceleration
+    !> (at most 10 mm: a wheel further off its rail is a deck error for the Newton iteration
+    !> to report), then the Illinois variant of the secant (regula falsi) inside the bracket
+    !> to 1e-12 m.
+    subroutine seat_body(k)
+      integer, intent(in) :: k
+      real(wp) :: za, zb, aa, ab, zc, ac, dz
+      integer :: iter, side
+      real(wp), parameter :: first_step = 1.0e-6_wp, longest_step = 1.0e-2_wp
+      za = y(k)
+      aa = acceleration(k, za); if (allocated(error)) return
+      if (aa == 0) return
+      dz = sign(first_step, aa)
+      do
+        zb = za + dz
+        ab = acceleration(k, zb); if (allocated(error)) return
+        if (sign(1.0_wp, ab) /= sign(1.0_wp, aa) .or. ab == 0) exit
+        za = zb; aa = ab
+        dz = 2 * dz
+        if (abs(dz) > longest_step) then
+          y(k) = za         ! no bracket: leave the body there, Newton reports
+          return
+        end if
+      end do
+      side = 0
+      zc = zb
+      do iter = 1, 100
+        zc = (za * ab - zb * aa) / (ab - aa)
+        ac = acceleration(k, zc); if (allocated(error)) return
+        if (ac == 0 .or. abs(zb - za) <= 1.0e-12_wp) exit
+        if (sign(1.0_wp, ac) == sign(1.0_wp, ab)) then
+          zb = zc; ab = ac
+          if (side == -1) aa = aa / 2
+          side = -1
+        else
+          za = zc; aa = ac
+          if (side == 1) ab = ab / 2
+          side = 1
+        end if
+      end do
+      y(k) = zc
+    end subroutine seat_body
+
+    real(wp) function acceleration(kz, z)
+      integer, intent(in) :: kz
+      real(wp), intent(in) :: z
+      real(wp) :: ydot(size(y))
+      yp = y
+      yp(kz) = z
+      call mb%rhs(t, yp, ydot, error)
+      acceleration = ydot(n + kz)
+    end function acceleration
+
     subroutine static_residual(yy, res)
       real(wp), intent(in) :: yy(:)
       real(wp), intent(out) :: res(:)

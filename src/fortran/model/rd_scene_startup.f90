@@ -194,12 +194,13 @@ contains
                                    supported=supported, level_track=.true.)
         if (.not. allocated(error)) &
           call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, &
-                                      held=held)
+                                      held=held, seated=supported)
       else
         call solve_static_preloads(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error)
       end if
     case ('solve')
-      call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, held=held)
+      call solve_static_positions(self%mbs, 0.0_wp, self%y, self%equilibrium_residual, error, held=held, &
+                                  seated=supported)
     end select
     if (allocated(error)) then
       call error_context(error, self%deck%origin('simulation', 1, 'equilibrium'))
