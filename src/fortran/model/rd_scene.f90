@@ -685,10 +685,11 @@ contains
         call self%integrator%get_stats(st)
         call self%writer%close(status, self%t, wall, error, notes=self%run_notes(), &
           int_stat_names=[character(len=24) :: 'n_steps', 'n_rhs', 'n_rhs_jacobian', 'n_jac', &
-                          'n_linear_setups', 'n_error_fail', 'n_newton_fail', 'n_reinit'], &
+                          'n_linear_setups', 'n_error_fail', 'n_newton_fail', 'n_reinit', &
+                          'n_rhs_retries'], &
           int_stat_values=[st%steps, st%rhs_evals, st%rhs_evals_jacobian, st%jacobian_evals, &
                            st%linear_setups, st%error_test_failures, st%nonlinear_conv_failures, &
-                           st%reinits], &
+                           st%reinits, st%rhs_retries], &
           real_stat_names=[character(len=24) :: 'h_last', 'equilibrium_residual'], &
           real_stat_values=[st%last_step, self%equilibrium_residual])
       end block

@@ -14,6 +14,7 @@ module rd_fixed_step
 
   type :: fixed_step_work_t
     real(wp), allocatable :: k1(:), k2(:), k3(:), k4(:), ystage(:)
+    real(wp), allocatable :: ystart(:)   !< a step's start, for its retry in substeps
   contains
     procedure :: allocate_work
   end type fixed_step_work_t
@@ -23,8 +24,8 @@ contains
   subroutine allocate_work(self, n)
     class(fixed_step_work_t), intent(inout) :: self
     integer, intent(in) :: n
-    if (allocated(self%k1)) deallocate (self%k1, self%k2, self%k3, self%k4, self%ystage)
-    allocate (self%k1(n), self%k2(n), self%k3(n), self%k4(n), self%ystage(n))
+    if (allocated(self%k1)) deallocate (self%k1, self%k2, self%k3, self%k4, self%ystage, self%ystart)
+    allocate (self%k1(n), self%k2(n), self%k3(n), self%k4(n), self%ystage(n), self%ystart(n))
   end subroutine allocate_work
 
   !> One classical RK4 step from (t, y) to (t + h, y); status /= RHS_OK leaves y unchanged.

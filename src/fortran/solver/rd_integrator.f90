@@ -46,6 +46,8 @@ module rd_integrator
   public :: integrator_t, integrator_settings_t, integrator_stats_t, jacobian_i, jacobian_sparsity_t
 
   integer, parameter :: msg_len = 1024
+  !> a fixed step whose RHS fails recoverably is redone in at most this many substeps
+  integer, parameter :: max_substeps = 64
 
   !> SUNDIALS return flags (identical in CVODE and ARKODE) meaning "the RHS failed".
   integer, parameter :: flag_rhsfunc_fail = -8, flag_first_rhsfunc_err = -9, &
@@ -78,6 +80,7 @@ module rd_integrator
     procedure :: method_name
     procedure :: is_initialized
     procedure, private :: advance_fixed
+    procedure, private :: fixed_step_with_retry
     procedure, private :: report_sundials_failure
     procedure, private :: sundials_text
     procedure, private :: engine_stats
@@ -315,13 +318,7 @@ contains
     do i = 1, nsteps
       ! Step times from the interval start (no accumulated round-off); the last lands on t_out.
       t_step = t_start + real(i - 1, wp) * h
-      if (self%method == METHOD_RK4) then
-        call rk4_step(self%context, t_step, h, self%y, self%work, status)
-        self%fixed_stats%rhs_evals = self%fixed_stats%rhs_evals + merge(4, 0, status == RHS_OK)
-      else
-        call heun_step(self%context, t_step, h, self%y, self%work, status)
-        self%fixed_stats%rhs_evals = self%fixed_stats%rhs_evals + merge(2, 0, status == RHS_OK)
-      end if
+      call self%fixed_step_with_retry(t_step, h, status)
       if (status /= RHS_OK) then
         self%t = t_step
         if (allocated(self%context%rhs_error)) then
@@ -330,7 +327,7 @@ contains
           call make_error(error, RD_ERR_RUNTIME, 'rhs failed without a message')
         end if
         if (status == RHS_RECOVERABLE) call error_context(error, &
-          'a fixed-step method cannot retry with a smaller step')
+          'the step failed in ' // trim(int_text(max_substeps)) // ' substeps too')
         call error_context(error, self%method_name() // ' failed advancing to ' // &
                            trim(sci_text(t_out, 8)) // ' s (time reached ' // trim(sci_text(t_step, 8)) // &
                            ' s, step h = ' // trim(sci_text(h, 8)) // ' s)')
@@ -341,6 +338,36 @@ contains
     end do
     self%t = t_out
   end subroutine advance_fixed
+
+  !> One fixed step from (t, y). A recoverable RHS failure (rd_error's retry errors, e.g. the
+  !> quasi-static contact solve did not converge at a stage's state) redoes the step from its
+  !> start in 2, 4, ... max_substeps equal substeps, what an adaptive method does with a
+  !> smaller step; the step still ends at t + h, so the run keeps its fixed grid and output
+  !> times, and only such a step costs more RHS calls (counted in rhs_retries).
+  subroutine fixed_step_with_retry(self, t, h, status)
+    class(integrator_t), intent(inout) :: self
+    real(wp), intent(in) :: t, h
+    integer, intent(out) :: status
+    integer :: parts, j
+    self%work%ystart = self%y
+    parts = 1
+    do
+      do j = 1, parts
+        if (self%method == METHOD_RK4) then
+          call rk4_step(self%context, t + real(j - 1, wp) * (h / parts), h / parts, self%y, self%work, status)
+          self%fixed_stats%rhs_evals = self%fixed_stats%rhs_evals + merge(4, 0, status == RHS_OK)
+        else
+          call heun_step(self%context, t + real(j - 1, wp) * (h / parts), h / parts, self%y, self%work, status)
+          self%fixed_stats%rhs_evals = self%fixed_stats%rhs_evals + merge(2, 0, status == RHS_OK)
+        end if
+        if (status /= RHS_OK) exit
+      end do
+      if (status /= RHS_RECOVERABLE .or. parts >= max_substeps) return
+      self%y = self%work%ystart
+      parts = 2 * parts
+      self%fixed_stats%rhs_retries = self%fixed_stats%rhs_retries + 1
+    end do
+  end subroutine fixed_step_with_retry
 
   !> Build the failure message of a SUNDIALS advance.
   subroutine report_sundials_failure(self, flag, t_out, t_reached, error)
@@ -443,7 +470,7 @@ contains
   subroutine engine_stats(self, stats)
     class(integrator_t), intent(in) :: self
     type(integrator_stats_t), intent(out) :: stats
-    integer(c_long) :: counts(8)
+    integer(c_long) :: counts(9)
     real(c_double) :: reals(3)
     integer(c_int) :: flag
 
@@ -457,6 +484,7 @@ contains
       stats%error_test_failures = self%before_reinit%error_test_failures + counts(6)
       stats%nonlinear_conv_failures = self%before_reinit%nonlinear_conv_failures + counts(7)
       stats%current_order = int(counts(8))
+      stats%rhs_retries = self%before_reinit%rhs_retries + counts(9)
       stats%last_step = reals(1)
       stats%next_step = reals(2)
     else

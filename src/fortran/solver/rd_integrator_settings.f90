@@ -41,6 +41,10 @@ module rd_integrator_settings
     integer(i8) :: error_test_failures = 0     !< steps rejected by the local error test
     integer(i8) :: nonlinear_conv_failures = 0 !< Newton / fixed-point convergence failures
     integer(i8) :: reinits = 0                 !< calls to reinit
+    !> steps redone after a recoverable RHS failure by raildyn itself, where the engine has
+    !> no retry: ERKStep restarted with a quarter step, a fixed step redone in substeps
+    !> (CVODE's own retries are among its Newton failures)
+    integer(i8) :: rhs_retries = 0
     real(wp) :: last_step = 0.0_wp             !< size of the last accepted step [s]
     real(wp) :: next_step = 0.0_wp             !< step size to be tried next [s]
     integer :: current_order = 0               !< order used on the last step

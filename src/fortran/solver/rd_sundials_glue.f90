@@ -81,7 +81,7 @@ module rd_sundials_glue
         bind(C, name='rd_glue_get_stats')
       import :: c_ptr, c_long, c_double, c_int
       type(c_ptr), value :: handle
-      integer(c_long), intent(out) :: counts(8)
+      integer(c_long), intent(out) :: counts(9)
       real(c_double), intent(out) :: reals(3)
       integer(c_int) :: flag
     end function rd_glue_get_stats

@@ -79,6 +79,14 @@ typedef struct {
   SUNNonlinearSolver NLS; /* fixed-point iteration (Adams only) */
   void *user;             /* Fortran wrapper object */
   char msg[RD_GLUE_MSG_LEN]; /* last error text reported by SUNDIALS */
+  /* ERK only: the last accepted step (for the retry of a recoverable RHS failure, see
+   * erk_evolve), whether the last RHS call failed recoverably, the retries so far, and
+   * the counters of the ERKStep runs before such a retry's restart */
+  N_Vector y_accepted;
+  double t_accepted;
+  int rhs_recoverable;
+  long retries;
+  long erk_banked[3]; /* steps, RHS evaluations, error-test failures */
 } rd_glue_t;
 
 /* ------------------------------------------------------------------------- */
@@ -184,8 +192,18 @@ static SUNLinearSolver rd_lapack_dense_solver(int n, SUNContext ctx) {
 
 static int rd_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data) {
   rd_glue_t *g = (rd_glue_t *)user_data;
-  return rd_solver_rhs_callback(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), g->n,
-                                g->user);
+  int status = rd_solver_rhs_callback(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot),
+                                      g->n, g->user);
+  g->rhs_recoverable = status > 0;
+  return status;
+}
+
+/* ERKStep's post-step hook: remember every accepted step. */
+static int rd_erk_accepted(sunrealtype t, N_Vector y, void *user_data) {
+  rd_glue_t *g = (rd_glue_t *)user_data;
+  N_VScale(1.0, y, g->y_accepted);
+  g->t_accepted = t;
+  return 0;
 }
 
 /* The Jacobian callback also gets what CVODE's own difference quotient uses (its current
@@ -244,6 +262,7 @@ void rd_glue_destroy(void *handle) {
   if (g->LS) SUNLinSolFree(g->LS);
   if (g->A) SUNMatDestroy(g->A);
   if (g->abstol) N_VDestroy(g->abstol);
+  if (g->y_accepted) N_VDestroy(g->y_accepted);
   if (g->y) N_VDestroy(g->y);
   if (g->ctx) SUNContext_Free(&g->ctx);
   free(g);
@@ -320,6 +339,10 @@ void *rd_glue_create(int method, int64_t n, double t0, const double *y0, void *u
     flag = ERKStepSetUserData(g->mem, g);
     /* Dormand-Prince 5(4), 7 stages, FSAL (Dormand & Prince 1980). */
     if (flag == 0) flag = ERKStepSetTableNum(g->mem, ARKODE_DORMAND_PRINCE_7_4_5);
+    g->y_accepted = N_VClone(g->y);
+    if (g->y_accepted == NULL) flag = -1;
+    else rd_erk_accepted(t0, g->y, g);
+    if (flag == 0) flag = ERKStepSetPostprocessStepFn(g->mem, rd_erk_accepted);
   } else {
     snprintf(msg, (size_t)msglen, "unknown glue method id %d", method);
     rd_glue_destroy(g);
@@ -389,6 +412,43 @@ int rd_glue_use_jacobian(void *handle) {
  * time the integrator reached and y_out its solution there (interpolated from the
  * method's own history, order 0 = the accepted state), or *valid = 0 if that is not
  * available. */
+/* ERKStepEvolve with the retry that ERKStep (SUNDIALS 6) lacks: a right-hand side that
+ * fails recoverably (rd_error's retry errors: e.g. the quasi-static contact solve did not
+ * converge at a stage's state) ends ERKStep with ARK_UNREC_RHSFUNC_ERR, where CVODE would
+ * retry with a smaller step. Do what CVODE does: restart from the last accepted step with a
+ * quarter of the step that failed. At most max_retries restarts for one obstacle (CVODE's
+ * default limit of convergence failures per step is 10): the count starts again only once an
+ * accepted step has passed the time of the last failure, so a failure that no step size
+ * avoids (a NaN from some time on) ends after max_retries restarts instead of creeping up to
+ * it in ever shorter steps. The restarts' counters are banked (rd_glue_get_stats reports the
+ * sums). */
+static int erk_evolve(rd_glue_t *g, double tout, double tstop, sunrealtype *tret) {
+  const int max_retries = 10;
+  int flag, in_a_row = 0;
+  sunrealtype t_failed = 0.0;
+  for (;;) {
+    sunrealtype h = 0.0, t_now = 0.0;
+    long v = 0;
+    flag = ERKStepSetStopTime(g->mem, tstop);
+    g->rhs_recoverable = 0;
+    if (flag == 0) flag = ERKStepEvolve(g->mem, tout, g->y, tret, ARK_NORMAL);
+    if (flag == ARK_TSTOP_RETURN) flag = ARK_SUCCESS;
+    if (flag != ARK_UNREC_RHSFUNC_ERR || !g->rhs_recoverable) return flag;
+    if (ERKStepGetCurrentStep(g->mem, &h) != 0 || h == 0.0) return flag;
+    if (ERKStepGetCurrentTime(g->mem, &t_now) != 0) t_now = g->t_accepted + h;
+    if (in_a_row > 0 && g->t_accepted > t_failed) in_a_row = 0;
+    if (++in_a_row > max_retries) return flag;
+    t_failed = t_now;
+    if (ERKStepGetNumSteps(g->mem, &v) == 0) g->erk_banked[0] += v;
+    if (ERKStepGetNumRhsEvals(g->mem, &v) == 0) g->erk_banked[1] += v;
+    if (ERKStepGetNumErrTestFails(g->mem, &v) == 0) g->erk_banked[2] += v;
+    N_VScale(1.0, g->y_accepted, g->y);
+    if (ERKStepReInit(g->mem, rd_rhs, g->t_accepted, g->y) != 0) return flag;
+    if (ERKStepSetInitStep(g->mem, 0.25 * h) != 0) return flag;
+    g->retries += 1;
+  }
+}
+
 int rd_glue_advance(void *handle, double tout, double tstop, double *y_out, double *t_reached,
                     int *valid) {
   rd_glue_t *g = (rd_glue_t *)handle;
@@ -397,9 +457,7 @@ int rd_glue_advance(void *handle, double tout, double tstop, double *y_out, doub
   g->msg[0] = '\0';
   *valid = 1;
   if (g->method == RD_GLUE_ERK) {
-    flag = ERKStepSetStopTime(g->mem, tstop);
-    if (flag == 0) flag = ERKStepEvolve(g->mem, tout, g->y, &tret, ARK_NORMAL);
-    if (flag == ARK_TSTOP_RETURN) flag = ARK_SUCCESS;
+    flag = erk_evolve(g, tout, tstop, &tret);
     if (flag < 0) {
       /* The output vector is not updated on failure: ask for the state at the time
        * reached. Interpolation needs a step taken and may be unavailable after a failed
@@ -439,10 +497,16 @@ int rd_glue_reinit(void *handle, double t0, const double *y0) {
   rd_glue_t *g = (rd_glue_t *)handle;
   int flag;
   memcpy(N_VGetArrayPointer(g->y), y0, (size_t)g->n * sizeof(double));
-  if (g->method == RD_GLUE_ERK)
-    flag = ERKStepReInit(g->mem, rd_rhs, t0, g->y);
-  else
+  if (g->method == RD_GLUE_ERK) {
+    /* a restart from outside: its own first step, counters and restart point */
+    flag = ERKStepSetInitStep(g->mem, 0.0);
+    if (flag == 0) flag = ERKStepReInit(g->mem, rd_rhs, t0, g->y);
+    g->erk_banked[0] = g->erk_banked[1] = g->erk_banked[2] = 0;
+    g->retries = 0;
+    rd_erk_accepted(t0, g->y, g);
+  } else {
     flag = CVodeReInit(g->mem, t0, g->y);
+  }
   if (flag != 0) rd_glue_note(g, "reinit", flag);
   return flag;
 }
@@ -450,20 +514,22 @@ int rd_glue_reinit(void *handle, double t0, const double *y0) {
 /* Counters since the last (re)initialisation:
  * counts[0] steps, [1] RHS evaluations by the method, [2] RHS evaluations for the
  * difference-quotient Jacobian, [3] Jacobian evaluations, [4] linear solver setups,
- * [5] error-test failures, [6] nonlinear convergence failures, [7] last order.
+ * [5] error-test failures, [6] nonlinear convergence failures, [7] last order,
+ * [8] restarts after a recoverable RHS failure (ERK only, erk_evolve).
  * reals[0] last step size, [1] step size to be tried next, [2] current time. */
 int rd_glue_get_stats(void *handle, long *counts, double *reals) {
   rd_glue_t *g = (rd_glue_t *)handle;
   long v = 0;
   int q = 0;
   sunrealtype r = 0.0;
-  for (int i = 0; i < 8; ++i) counts[i] = 0;
+  for (int i = 0; i < 9; ++i) counts[i] = 0;
   for (int i = 0; i < 3; ++i) reals[i] = 0.0;
   if (g->method == RD_GLUE_ERK) {
-    if (ERKStepGetNumSteps(g->mem, &v) == 0) counts[0] = v;
-    if (ERKStepGetNumRhsEvals(g->mem, &v) == 0) counts[1] = v;
-    if (ERKStepGetNumErrTestFails(g->mem, &v) == 0) counts[5] = v;
+    if (ERKStepGetNumSteps(g->mem, &v) == 0) counts[0] = g->erk_banked[0] + v;
+    if (ERKStepGetNumRhsEvals(g->mem, &v) == 0) counts[1] = g->erk_banked[1] + v;
+    if (ERKStepGetNumErrTestFails(g->mem, &v) == 0) counts[5] = g->erk_banked[2] + v;
     counts[7] = 5;
+    counts[8] = g->retries;
     if (ERKStepGetLastStep(g->mem, &r) == 0) reals[0] = r;
     if (ERKStepGetCurrentStep(g->mem, &r) == 0) reals[1] = r;
     if (ERKStepGetCurrentTime(g->mem, &r) == 0) reals[2] = r;
