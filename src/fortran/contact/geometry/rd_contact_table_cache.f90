@@ -27,7 +27,7 @@ module rd_contact_table_cache
   public :: obtain_contact_table, contact_table_key, contact_table_cache_dir, contact_table_file
 
   !> Change whenever the table's content or meaning changes (code version of the format).
-  character(len=*), parameter :: TABLE_FORMAT = 'raildyn contact table 3'
+  character(len=*), parameter :: TABLE_FORMAT = 'raildyn contact table 4'
 
   interface
     function c_mkdir(path, mode) result(status) bind(C, name='mkdir')
@@ -153,8 +153,8 @@ contains
     table%nu = nu
     table%nphi = nphi
     table%npsi = npsi
-    allocate (table%values(nu, nphi, nq, ns), table%slopes(nu, nphi, nq, ns))
-    allocate (table%yaw_change(nu, npsi, nq, ns), table%yaw_slopes(nu, npsi, nq, ns))
+    allocate (table%values(nq, nu, nphi, ns), table%slopes(nq, nu, nphi, ns))
+    allocate (table%yaw_change(nq, nu, npsi, ns), table%yaw_slopes(nq, nu, npsi, ns))
     read (unit, iostat=ios) table%options, table%y_tape, table%r0, table%s_cut, table%s_root_end, &
       table%s_face_start, table%u0, table%du, table%phi0, table%dphi, table%dpsi, table%values, table%slopes, &
       table%yaw_change, table%yaw_slopes
