@@ -568,6 +568,7 @@ def main():
             data["meta"]["host"] = (f"{os.cpu_count()} CPUs, load average "
                                     f"{' '.join(Path('/proc/loadavg').read_text().split()[:3])} at the last row")
             data["meta"]["when"] = time.strftime("measured %Y-%m-%d %H:%M UTC", time.gmtime())
+            json_path.parent.mkdir(parents=True, exist_ok=True)
             json_path.write_text(json.dumps(data, indent=1))
 
         keys = args.scenes or [s.key for s in scene_list()] + ["manchester_decks"]
