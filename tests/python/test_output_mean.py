@@ -77,9 +77,10 @@ def test_records_equal_the_trapezoid_means_of_a_dense_run(raildyn_exe, tmp_path)
 
 
 def test_sub_samples_cost_no_integrator_steps(raildyn_exe, tmp_path):
-    """The integrator stops at the record times only and interpolates the sub-samples, so a
-    run with means takes exactly the steps of the same run writing samples (given the first
-    step: CVODE estimates it from the first target time, a sub-sample or a record)."""
+    """The integrator stops at the advance target only and interpolates the records and the
+    sub-samples, so a run with means takes exactly the steps of the same run writing samples
+    (given the first step: CVODE estimates it from the first target time, a sub-sample or a
+    record)."""
     stats = []
     for name, samples in (("samples", 0), ("means", 20)):
         path = run(raildyn_exe, write_deck(tmp_path, name, 0.05, samples))
