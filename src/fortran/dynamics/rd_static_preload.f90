@@ -398,7 +398,6 @@ contains
         end if
       end do
       side = 0
-      zc = zb
       do iter = 1, 100
         zc = (za * ab - zb * aa) / (ab - aa)
         ac = acceleration(k, zc); if (allocated(error)) return

@@ -582,21 +582,17 @@ contains
       if (self%average%samples == 0) then
         t_out = real(self%output_steps, wp) * self%interval
         if (t_out > t_target + 1e-9_wp * self%interval) exit
-        ! The integrator steps on to the target (where inputs may change) and interpolates the
-        ! record: stopping at every record cut a step at each of them and BDF needed several
-        ! steps to grow back (the Manchester decks: 16-17 % of their steps, docs/performance.md)
-        call integrate_to(t_out, max(t_target, t_out))
+        call integrate_to(t_out)
         if (allocated(error)) return
         call self%write_step(error)
         if (allocated(error)) return
       else
         ! interval means (rd_output_average): sub-samples on a fixed grid of interval / N,
-        ! so that advancing in pieces (C API) gives the same records. The integrator stops
-        ! only at the target (where inputs may change) and interpolates the sub-samples and
-        ! the records: they add no steps and leave the step sequence as without means.
+        ! so that advancing in pieces (C API) gives the same records; interpolated like the
+        ! records (integrate_to), they add no steps.
         t_out = (real(self%output_steps - 1, wp) + self%average%next_fraction()) * self%interval
         if (t_out > t_target + 1e-9_wp * self%interval / self%average%samples) exit
-        call integrate_to(t_out, max(t_target, t_out))
+        call integrate_to(t_out)
         if (allocated(error)) return
         call self%refresh_outputs(error)
         if (allocated(error)) return
@@ -614,15 +610,16 @@ contains
     end do
     call integrate_to(t_target)
   contains
-    !> To t_stop; the integrator may step on to t_limit (>= t_stop, default t_stop) and
-    !> interpolate (rd_integrator advance).
-    subroutine integrate_to(t_stop, t_limit)
+    !> To t_stop (a record, a sub-sample or the target). The integrator steps on to the
+    !> target, where inputs may change, and interpolates t_stop (rd_integrator advance's
+    !> t_stop): stopping it at every record cut a step at each and BDF needed several steps
+    !> to grow back (the Manchester decks: 16-17 % of their steps, docs/performance.md).
+    subroutine integrate_to(t_stop)
       real(wp), intent(in) :: t_stop
-      real(wp), intent(in), optional :: t_limit
       ! A track-only scene is kinematic: the vehicle position is an exact function of time.
       if (t_stop <= self%t) return
       if (associated(self%integrator)) then
-        call self%integrator%advance(t_stop, self%y, error, t_limit)
+        call self%integrator%advance(t_stop, self%y, error, max(t_target, t_stop))
         if (allocated(error)) then
           self%t = self%integrator%time()
           call error_context(error, 'scene')
