@@ -237,7 +237,10 @@ contains
     type(error_t), allocatable :: error
     call lookup(handle, model, status)
     if (status /= RD_OK) return
-    call model%scene%advance(real(t_target, wp), error)
+    ! Every input (rd_set_input, rd_set_state, rd_set_start) restarts the integrator at the
+    ! scene's time, so between them the integrator may step on towards the run's end and
+    ! interpolate each target: chunked advances cost no steps (scene_advance's horizon).
+    call model%scene%advance(real(t_target, wp), error, max(real(t_target, wp), model%scene%end_time()))
     status = conclude(model, error)
   end function rd_advance
 

@@ -87,6 +87,30 @@ def test_records_cost_no_steps(tmp_path):
         assert np.array_equal(a.get(c), b.get(c)[::2]), c
 
 
+def test_chunks_cost_no_steps(tmp_path):
+    """Nothing changes the inputs between advances, so neither `raildyn run` (which advances
+    in chunks to show its progress) nor a C API caller's chunks stop the integrator: with
+    the first step given, 800 C API chunks land bit for bit on the records of `raildyn run`
+    at the same times. (When each advance stopped the integrator at its target, the chunks
+    cut steps short and the runs differed at the tolerance.)"""
+    deck = BASE.replace("atol = 1e-10 /", "atol = 1e-10, initial_step = 1e-4 /").format(interval=0.01)
+    res, path = run_file(tmp_path, deck, "runner")
+    assert res.returncode == 0, res.stderr
+    records = raildyn.Results(path)
+    times = np.asarray(records.time, float)
+    many = raildyn.Model.from_string(deck, base_dir=str(INPUTS))
+    many.initialize(write_output=False)
+    checked = 0
+    for k in range(1, times.size, 1):
+        many.advance(float(times[k]))
+        if k % 50 == 0 or k == times.size - 1:
+            for c in CHANNELS:
+                assert np.array_equal(many.output(c), records.get(c)[k]), (c, times[k])
+            checked += 1
+    assert checked >= 16 and abs(times[-1] - 8.0) < 1e-9
+    many.close()
+
+
 def test_split_segment_changes_nothing(tmp_path):
     """The designed track with its 200 m clothoid given as one segment, and the same track
     whose straight approach is cut into two halves; the clothoid cannot be split (a clothoid

@@ -548,10 +548,17 @@ contains
 
 
   !> Advance to t_target, writing every output step passed on the way.
-  subroutine scene_advance(self, t_target, error)
+  !> t_horizon (>= t_target, default t_target): the caller promises not to change the
+  !> scene's inputs before t_horizon, so the integrator may step on towards it and
+  !> interpolate t_target. A runner that advances in chunks only to show progress passes
+  !> its end time: a stop at every chunk end cut a step short there, and BDF needed
+  !> several steps to grow back (docs/performance.md "Stepping through the records").
+  subroutine scene_advance(self, t_target, error, t_horizon)
     class(scene_t), intent(inout) :: self
     real(wp), intent(in) :: t_target
     type(error_t), allocatable, intent(out) :: error
+    real(wp), intent(in), optional :: t_horizon
+    real(wp) :: t_limit
     call refuse_after_failure(self, error)
     if (allocated(error)) return
     if (.not. self%initialized) then
@@ -562,7 +569,15 @@ contains
       call make_error(error, RD_ERR_INPUT, 'advance: target time must be finite and >= the current time')
       return
     end if
-    call step_to(self, t_target, error)
+    t_limit = t_target
+    if (present(t_horizon)) then
+      if (.not. (t_horizon >= t_target)) then
+        call make_error(error, RD_ERR_INPUT, 'advance: the horizon must be >= the target time')
+        return
+      end if
+      t_limit = t_horizon
+    end if
+    call step_to(self, t_target, t_limit, error)
     if (allocated(error)) then
       ! The run ends here (the integrator's state is invalid or a record could not be
       ! written): the file says so, and the scene refuses to step on.
@@ -571,10 +586,11 @@ contains
     end if
   end subroutine scene_advance
 
-  !> Integrate to t_target, writing every output step passed on the way (scene_advance).
-  subroutine step_to(self, t_target, error)
+  !> Integrate to t_target, writing every output step passed on the way (scene_advance);
+  !> the integrator may step as far as t_limit.
+  subroutine step_to(self, t_target, t_limit, error)
     class(scene_t), intent(inout) :: self
-    real(wp), intent(in) :: t_target
+    real(wp), intent(in) :: t_target, t_limit
     type(error_t), allocatable, intent(out) :: error
     real(wp) :: t_out
     real(wp), allocatable :: sample(:)
@@ -611,15 +627,16 @@ contains
     call integrate_to(t_target)
   contains
     !> To t_stop (a record, a sub-sample or the target). The integrator steps on to the
-    !> target, where inputs may change, and interpolates t_stop (rd_integrator advance's
-    !> t_stop): stopping it at every record cut a step at each and BDF needed several steps
-    !> to grow back (the Manchester decks: 16-17 % of their steps, docs/performance.md).
+    !> limit (the target or the caller's horizon), where inputs may change, and
+    !> interpolates t_stop (rd_integrator advance's t_stop): stopping it at every record
+    !> cut a step at each and BDF needed several steps to grow back (the Manchester decks:
+    !> 16-17 % of their steps, docs/performance.md).
     subroutine integrate_to(t_stop)
       real(wp), intent(in) :: t_stop
       ! A track-only scene is kinematic: the vehicle position is an exact function of time.
       if (t_stop <= self%t) return
       if (associated(self%integrator)) then
-        call self%integrator%advance(t_stop, self%y, error, max(t_target, t_stop))
+        call self%integrator%advance(t_stop, self%y, error, max(t_limit, t_stop))
         if (allocated(error)) then
           self%t = self%integrator%time()
           call error_context(error, 'scene')
