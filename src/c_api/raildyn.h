@@ -62,7 +62,9 @@ int rd_create_from_string(const char *deck_text, const char *base_dir, rd_handle
 int rd_initialize(rd_handle handle, int write_output);
 
 /* Integrate up to time t_target [s] (>= current time); outputs are written at the
- * deck's output interval on the way. */
+ * deck's output interval on the way. The integrator may step beyond t_target and
+ * interpolate it (advancing in many small chunks costs no steps); rd_set_input() and
+ * rd_set_state() restart it at the current time, where the change takes effect. */
 int rd_advance(rd_handle handle, double t_target);
 
 /* Current simulated time [s]. */
