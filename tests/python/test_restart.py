@@ -27,9 +27,10 @@ DECK = """&include file = '{base}' /
       series_stiffness = 5.0e6 /
 """
 T1, T2 = 0.3, 0.5
+ATOL = 1e-11     # the bdf runs' absolute tolerance (deck())
 
 
-def deck(tmp_path, name, t_end, method="bdf", output="", rtol=1e-9, atol=1e-11):
+def deck(tmp_path, name, t_end, method="bdf", output="", rtol=1e-9, atol=ATOL):
     path = tmp_path / f"{name}.nml"
     # each method's own parameters (rk4 reads no tolerances, bdf no fixed step)
     solver = "fixed_step = 2e-5" if method == "rk4" else f"rtol = {rtol}, atol = {atol}"
@@ -77,7 +78,12 @@ def test_restart_continues_the_straight_run_rk4(runs):
 
 def test_restart_continues_the_straight_run_bdf(runs):
     _, tight = rows_from(runs["tight"], T1)
-    assert_continues(runs["bdf"], lambda name, straight: 3 * np.abs(straight - tight[name]).max(axis=0)
+    # The straight run's error in a column can happen to lie far below what the tolerances
+    # ask (the wheelset's vertical velocity: 1.7e-13 m/s, atol 1e-11): the restarted run's
+    # own error is bounded by the tolerances, not by that accident, so the column's error
+    # counts as at least atol (the deck's, deck() below).
+    assert_continues(runs["bdf"], lambda name, straight: 3 * np.maximum(np.abs(straight - tight[name]).max(axis=0),
+                                                                         ATOL if name == "state/y" else 0.0)
                      + 1e-15)
 
 
