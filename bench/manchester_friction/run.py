@@ -4,7 +4,8 @@ criteria hold with the friction at 0.2 and 0.6 too; docs/theory_flange_chatter.m
 
 Runs, one after the other (the machine has 2 shared cores), the acceptance deck
 (inputs/manchester_v1_tc1.nml, the vehicle's friction 0.4) and the variants friction_02.nml,
-friction_06.nml of this folder, each as it is and with `&solver atol = 9e-9`, and prints per run
+friction_06.nml of this folder, each as it is, with `&solver atol = 9e-9` (the issue's check,
+made when the deck's atol was 1e-8) and with 0.9 times the deck's atol, and prints per run
 what the issue asks: steps, RHS calls, CPU s (user + system of the runner), the wheels without
 contact (run notes), the largest standard deviation of a wheel's vertical force in the
 quasi-static window, and for the pair of each deck the largest differences of the window means
@@ -20,6 +21,7 @@ The build is --build, else $RAILDYN_BUILD_DIR, else <repo>/build.
 """
 import argparse
 import os
+import re
 import resource
 import subprocess
 import sys
@@ -81,6 +83,12 @@ def measure(path: Path) -> dict:
         r.close()
 
 
+def deck_atol() -> float:
+    """The acceptance deck's atol (its &solver line)."""
+    line = next(ln for ln in DECKS["04"].read_text().splitlines() if ln.startswith("&solver"))
+    return float(re.search(r"\batol\s*=\s*([0-9.eE+-]+)", line).group(1))
+
+
 def entry_differences(a: dict, b: dict) -> dict:
     """Largest |a - b| of the window entries per printed unit (mm, mrad, kN)."""
     worst = {u: 0.0 for u in UNITS}
@@ -106,17 +114,22 @@ def main():
     ap.add_argument("--compare", type=Path, default=None, help="a work folder of another build's --keep run")
     ap.add_argument("--only", nargs="*", default=list(DECKS), choices=list(DECKS))
     ap.add_argument("--timeout", type=float, default=1800.0, help="wall-clock limit per run [s]")
-    ap.add_argument("--single", action="store_true", help="the decks only, without their atol 9e-9 runs")
+    ap.add_argument("--single", action="store_true", help="the decks only, without their smaller-atol runs")
     args = ap.parse_args()
     exe = args.build / "bin" / "raildyn"
     work = args.work or Path(tempfile.mkdtemp(prefix="manchester_friction_"))
     work.mkdir(parents=True, exist_ok=True)
     print("| friction | atol | steps | RHS calls (+ Jacobians) | CPU s | wheel without contact | Q std [kN] "
-          "| window means vs atol 9e-9: mm / mrad / kN |")
+          "| window means against the deck's: mm / mrad / kN |")
     print("|---|---|---:|---:|---:|---|---:|---|")
     for key in args.only:
         res = {}
+        # the issue's check (atol 9e-9 for the deck's 1e-8 then), and the same 10 % step below
+        # the deck's own atol since it is 1e-7
         variants = [("deck", ""), ("atol9e-9", "&solver atol = 9e-9 /\n")]
+        atol = deck_atol()
+        if abs(0.9 * atol - 9e-9) > 1e-12:
+            variants.append((f"atol{0.9 * atol:.0e}", f"&solver atol = {0.9 * atol:.1e} /\n"))
         for tag, extra in variants[:1] if args.single else variants:
             deck = work / f"friction_{key}__{tag}.nml"
             deck.write_text(f"&include file = '{DECKS[key]}' /\n{extra}")

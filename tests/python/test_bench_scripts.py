@@ -11,6 +11,10 @@ unnoticed once when raildyn.validation renamed a helper). Nothing is timed.
   window yet), its entry differences on two entry sets built from the package table (a 1 kN
   change of one force entry is 1 kN and 100 kN / S % of its family's scale), and cycle.py's
   `report` on the same results file.
+- bench/solver_tolerance/run.py: its `measure` on the tables deck shortened to 0.3 s, at the
+  deck's tolerances against the tight run: the sampled maxima equal those read from the file
+  by raildyn.Results, the tight run compared with itself differs by 0 and the deck's run does
+  not; `render` names both rows.
 """
 import importlib.util
 import os
@@ -85,3 +89,35 @@ def test_manchester_friction_measures(friction, build_dir, tmp_path):
     assert percent == pytest.approx(100.0 * 1000.0 / mf.V.family_scales(entries)[force.quantity])
     cycle = _load("bench/manchester_friction/cycle.py", "bench_manchester_friction_cycle")
     cycle.report(out, "short")      # reads wheelset 1's channels by the writer's names
+
+
+def test_solver_tolerance_measures_and_renders(build_dir, tmp_path):
+    st = _load("bench/solver_tolerance/run.py", "bench_solver_tolerance_run")
+    exe = build_dir / "bin" / "raildyn"
+    env = dict(os.environ, RAILDYN_CACHE_DIR=str(tmp_path / "cache"))
+    ref_row, ref, ref_max = st.measure(exe, tmp_path, env, "tables", "tight", st.TIGHT[1], None, t_end=0.3)
+    assert ref_row.outcome == "completed" and ref is not None, ref_row.notes
+    same, _, same_max = st.measure(exe, tmp_path, env, "tables", "tight again", st.TIGHT[1], ref, t_end=0.3)
+    assert (same.err_y, same.err_force) == (0.0, 0.0) and same_max == ref_max
+    deck_row, _, deck_max = st.measure(exe, tmp_path, env, "tables", "deck", "", ref, t_end=0.3)
+    assert deck_row.outcome == "completed" and deck_row.steps < same.steps and deck_row.err_force > 0
+    # the maxima against an independent reading of a file of the same run
+    out = tmp_path / "deck.h5"
+    deck = tmp_path / "deck.nml"
+    deck.write_text(f"&include file = '{REPO / 'inputs' / 'manchester_v1_tc1_tables.nml'}' /\n"
+                    "&simulation t_end = 0.3 /\n")
+    import subprocess
+    subprocess.run([str(exe), "run", str(deck), "-o", str(out), "--quiet"], env=env, check=True)
+    import raildyn
+    r = raildyn.Results(out)
+    sides = [(w, s) for w in ("w1", "w2", "w3", "w4") for s in ("left", "right")]
+    assert deck_max["max_q"] == max(float(np.max(r.get(f"wheelsets/{w}/{s}/wheel:force_vertical_Q")))
+                                    for w, s in sides)
+    assert deck_max["max_yq"] == max(float(np.max(r.get(f"wheelsets/{w}/{s}/wheel:Y_over_Q"))) for w, s in sides)
+    assert deck_max["max_sum_y"] == max(float(np.max(np.abs(r.get(f"wheelsets/{w}/left/wheel:force_lateral_Y")
+                                                            + r.get(f"wheelsets/{w}/right/wheel:force_lateral_Y"))))
+                                        for w in ("w1", "w2", "w3", "w4"))
+    rows = [dict(deck="tables", label=label, **st.row_fields(row), **m)
+            for label, row, m in (("tight", ref_row, ref_max), ("deck", deck_row, deck_max))]
+    text = st.render(rows, "test")
+    assert "| tables | tight |" in text and "| tables | deck |" in text, text

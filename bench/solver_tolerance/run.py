@@ -1,0 +1,193 @@
+#!/usr/bin/env python3
+"""What the integrator's tolerances cost and change on the Manchester decks (issue 12 item 3,
+issue 14 item 4): the acceptance deck (online strips) and the tables deck, each at its
+shipped tolerances and at looser ones, against the same deck at tight tolerances (the fidelity
+map's reference solver: BDF rtol 1e-7, atol 1e-10 for coordinates and rates). Only the
+&solver line changes, so every difference is the integration's.
+
+Per run: steps, RHS calls (method + difference-quotient Jacobians), CPU s (user + system of the
+runner), and its error against the tight run of the same deck (bench/fidelity_map/run.py's
+measures): the 32 window entries of the validation rule in % of their family scale S (largest,
+median), the largest difference over the run of a wheelset's lateral shift and of a wheel force
+(Y or Q), in % of the tight run's range, the rule's own verdict and the run's notes (a wheel
+without contact).
+
+Where the force error sits: the curvature kinks (clothoid ends) excite the leading wheelsets'
+undamped 131 Hz flange mode (docs/theory_flange_chatter.md section 11); the tight run follows
+its ringing, BDF2 at looser tolerances damps it sooner. The output samples every 20 ms alias
+that ringing, so the force error over the run is the ringing's sampled amplitude.
+
+    python3 bench/solver_tolerance/run.py [--build DIR] [--decks tables strips] [--json FILE]
+        [--from-json FILE] [--no-write]
+
+Runs one at a time (2 shared cores). Writes the table into docs/performance.md (section
+solver_tolerance) unless --no-write; --from-json rewrites it from an earlier run's JSON.
+"""
+import argparse
+import datetime
+import importlib.util
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "bench"))
+from performance_section import write_section  # noqa: E402
+
+# the fidelity map's runner and error measures (one definition of "error against a reference")
+_spec = importlib.util.spec_from_file_location("fidelity_map", REPO / "bench" / "fidelity_map" / "run.py")
+FM = importlib.util.module_from_spec(_spec)
+sys.modules["fidelity_map"] = FM
+_spec.loader.exec_module(FM)
+
+DECKS = {"tables": "manchester_v1_tc1_tables.nml", "strips": "manchester_v1_tc1.nml"}
+#: (label, &solver settings) over the acceptance deck's &solver line (method 'bdf', rtol 1e-5,
+#: max_order 2, its atol and atol_velocity): the variants keep the method and the order (and
+#: rtol, unless they name it); the row with the deck's own tolerances is marked in the table.
+VARIANTS = [("atol 1e-8, atol_velocity 1e-5", "atol = 1e-8, atol_velocity = 1e-5"),
+            ("atol 1e-8, atol_velocity 3e-5", "atol = 1e-8, atol_velocity = 3e-5"),
+            ("atol 1e-8, atol_velocity 1e-4", "atol = 1e-8, atol_velocity = 1e-4"),
+            ("atol 3e-8, atol_velocity 1e-4", "atol = 3e-8, atol_velocity = 1e-4"),
+            ("atol 1e-7, atol_velocity 1e-4", "atol = 1e-7, atol_velocity = 1e-4"),
+            ("atol 1e-7, atol_velocity 1e-3", "atol = 1e-7, atol_velocity = 1e-3"),
+            ("atol 3e-7, atol_velocity 3e-4", "atol = 3e-7, atol_velocity = 3e-4"),
+            ("atol 1e-6, atol_velocity 1e-3", "atol = 1e-6, atol_velocity = 1e-3"),
+            ("rtol 1e-4, atol 1e-7, atol_velocity 1e-4", "rtol = 1e-4, atol = 1e-7, atol_velocity = 1e-4")]
+TIGHT = ("tight: rtol 1e-7, atol 1e-10 (coordinates and rates)", FM.REFERENCE_SOLVER)
+
+
+def deck_tolerances():
+    """(rtol, atol, atol_velocity) of the acceptance deck's &solver line."""
+    text = (REPO / "inputs" / DECKS["strips"]).read_text()
+    line = next(ln for ln in text.splitlines() if ln.startswith("&solver"))
+    return tuple(float(re.search(rf"\b{k}\s*=\s*([0-9.eE+-]+)", line).group(1))
+                 for k in ("rtol", "atol", "atol_velocity"))
+
+
+def is_deck(solver):
+    """Whether the variant's settings give the deck's own tolerances."""
+    rtol, atol, atol_v = deck_tolerances()
+    given = dict(rtol=rtol, atol=atol, atol_velocity=atol_v)
+    for k, v in re.findall(r"(\w+)\s*=\s*([0-9.eE+-]+)", solver):
+        given[k] = float(v)
+    return (given["rtol"], given["atol"], given["atol_velocity"]) == (rtol, atol, atol_v)
+
+
+def measure(exe, tmp, env, deck_key, label, solver, ref, t_end=None):
+    """(row, series, sampled maxima) of the deck with `solver` as its &solver line (t_end: a
+    shortened run, for the tests)."""
+    scene = FM.Scene(f"tol_{deck_key}", DECKS[deck_key], deck_key, [], 0.0, manchester=True)
+    level = FM.Level(label, deck_key, "fastsim", "quasi-static", "bdf", "", solver)
+    tag = "".join(c if c.isalnum() else "_" for c in label.split(":")[0])
+    row, series = FM.measure(exe, tmp, scene, level, t_end, tag, env, 3600.0, ref, True, keep=True)
+    out = tmp / f"{scene.key}__{tag}.h5"
+    maxima = sampled_maxima(out) if series is not None else {}
+    out.unlink(missing_ok=True)
+    return row, series, maxima
+
+
+def sampled_maxima(path):
+    """The sampled maxima an assessment starts from: largest Y/Q of a wheel, largest Q, and the
+    largest |Y_left + Y_right| of a wheelset (raw samples, no sliding means or filters)."""
+    with h5py.File(path, "r") as f:
+        yq, q, sum_y = [], [], []
+        for w in f["wheelsets"]:
+            wheel = {side: f[f"wheelsets/{w}/{side}/wheel"][...] for side in ("left", "right")}
+            for a in wheel.values():
+                yq.append(float(np.max(a[:, 4])))
+                q.append(float(np.max(a[:, 3])))
+            sum_y.append(float(np.max(np.abs(wheel["left"][:, 2] + wheel["right"][:, 2]))))
+    return dict(max_yq=max(yq), max_q=max(q), max_sum_y=max(sum_y))
+
+
+def render(rows, when):
+    lines = [f"Measured {when}.", "",
+             "Each row is the deck with only its `&solver` line changed (method 'bdf' and max_order 2 "
+             "kept, rtol 1e-5 unless named); errors against the same deck at the tight tolerances (the fidelity "
+             "map's reference solver). entries = the 32 window entries of the validation rule, "
+             "largest difference in % of the family scale S (median in brackets); y, F = largest "
+             "difference over the run of a wheelset's lateral shift and of a wheel force (Y or Q), "
+             "% of the tight run's range; rule = the run's own verdict of the acceptance rule; "
+             "Y/Q, Q, sum Y = the largest sampled Y/Q of a wheel, Q of a wheel and |Y_left + Y_right| "
+             "of a wheelset over the run (raw samples, before an assessment's sliding means).", "",
+             "| deck | tolerances | outcome | steps | RHS (+ Jacobians) | CPU s | entries [% S] | y [%] | F [%] "
+             "| Y/Q | Q [kN] | sum Y [kN] | rule | notes |",
+             "|---|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|---|"]
+    for r in rows:
+        entries = (f"{FM.fmt(r['err_entries'], '.2g')} ({FM.fmt(r['err_entries_median'], '.1g')})"
+                   if np.isfinite(r["err_entries"]) else "")
+        lines.append(f"| {r['deck']} | {r['label']} | {r['outcome']} | {r['steps']} | "
+                     f"{r['rhs']} + {r['rhs_jac']} | {FM.fmt(r['cpu'], '.2f')} | {entries} | "
+                     f"{FM.fmt(r['err_y'], '.2g')} | {FM.fmt(r['err_force'], '.2g')} | "
+                     f"{FM.fmt(r.get('max_yq'), '.4f')} | {FM.fmt(r.get('max_q', float('nan')) / 1e3, '.2f')} | "
+                     f"{FM.fmt(r.get('max_sum_y', float('nan')) / 1e3, '.2f')} | {r['rule']} | "
+                     f"{'; '.join(r['notes'])} |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--build", default=os.environ.get("RAILDYN_BUILD_DIR", str(REPO / "build")))
+    ap.add_argument("--decks", nargs="+", choices=list(DECKS), default=list(DECKS))
+    ap.add_argument("--json", default=None)
+    ap.add_argument("--from-json", default=None)
+    ap.add_argument("--no-write", action="store_true")
+    args = ap.parse_args()
+    if args.from_json:
+        data = json.loads(Path(args.from_json).read_text())
+    else:
+        exe = Path(args.build).resolve() / "bin" / "raildyn"
+        rev = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
+                             capture_output=True, text=True).stdout.strip()
+        start = datetime.datetime.now(datetime.timezone.utc)
+        rows = []
+        with tempfile.TemporaryDirectory(prefix="raildyn-tol-") as tmpdir:
+            tmp = Path(tmpdir)
+            env = dict(os.environ, RAILDYN_CACHE_DIR=str(tmp / "cache"))
+            for key in args.decks:
+                if key == "tables":   # build the table once, outside the measured runs
+                    warm = tmp / "warm.nml"
+                    warm.write_text(f"&include file = '{REPO / 'inputs' / DECKS[key]}' /\n"
+                                    "&simulation t_end = 0.01 /\n")
+                    subprocess.run([str(exe), "run", str(warm), "-o", str(tmp / "warm.h5"), "--quiet"],
+                                   env=env, check=True, capture_output=True)
+                ref_row, ref, ref_max = measure(exe, tmp, env, key, TIGHT[0], TIGHT[1], None)
+                print(f"== {key}: tight run {ref_row.outcome}, {ref_row.steps} steps, {ref_row.cpu:.1f} CPU s",
+                      flush=True)
+                rows.append(dict(deck=key, label=TIGHT[0], **row_fields(ref_row), **ref_max))
+                for label, solver in VARIANTS:
+                    label = f"{label} (the deck)" if is_deck(solver) else label
+                    row, _, maxima = measure(exe, tmp, env, key, label, solver, ref)
+                    print(f"   {label}: {row.outcome}, {row.steps} steps, {row.cpu:.2f} CPU s, entries "
+                          f"{row.err_entries:.2g} % S, y {row.err_y:.2g} %, F {row.err_force:.2g} %, "
+                          f"max Y/Q {maxima.get('max_yq', float('nan')):.4f}", flush=True)
+                    rows.append(dict(deck=key, label=label, **row_fields(row), **maxima))
+        end = datetime.datetime.now(datetime.timezone.utc)
+        load = os.getloadavg()[0]
+        data = dict(rows=rows, when=f"on main {rev}, {start:%Y-%m-%d %H:%M}-{end:%H:%M} UTC, one run at a "
+                                    f"time (load average {load:.1f} at the end)")
+        if args.json:
+            Path(args.json).parent.mkdir(parents=True, exist_ok=True)
+            Path(args.json).write_text(json.dumps(data, indent=1))
+    text = render(data["rows"], data["when"])
+    print(text)
+    if not args.no_write:
+        write_section("solver_tolerance", text,
+                      "### Solver tolerances on the Manchester decks (bench/solver_tolerance/run.py)")
+
+
+def row_fields(row):
+    return dict(outcome=row.outcome, steps=row.steps, rhs=row.rhs, rhs_jac=row.rhs_jac, cpu=row.cpu,
+                err_entries=row.err_entries, err_entries_median=row.err_entries_median,
+                err_y=row.err_y, err_force=row.err_force, rule=row.rule, notes=list(row.notes))
+
+
+if __name__ == "__main__":
+    main()
