@@ -171,7 +171,7 @@ def main():
                     rows.append(dict(deck=key, label=label, **row_fields(row), **maxima))
         end = datetime.datetime.now(datetime.timezone.utc)
         load = os.getloadavg()[0]
-        data = dict(rows=rows, when=f"on main {rev}, {start:%Y-%m-%d %H:%M}-{end:%H:%M} UTC, one run at a "
+        data = dict(rows=rows, when=f"on commit {rev}, {start:%Y-%m-%d %H:%M}-{end:%H:%M} UTC, one run at a "
                                     f"time (load average {load:.1f} at the end)")
         if args.json:
             Path(args.json).parent.mkdir(parents=True, exist_ok=True)
