@@ -12,13 +12,18 @@ median), the largest difference over the run of a wheelset's lateral shift and o
 (Y or Q), in % of the tight run's range, the rule's own verdict and the run's notes (a wheel
 without contact).
 
+Each tolerance also runs the friction-0.6 variant (bench/manchester_friction/friction_06.nml)
+to 10.5 s: at the clothoid's end wheelset 1 enters a 135 Hz cycle on its flange that the tight
+run shows; a tolerance whose steps damp the kink's ringing before it grows misses the cycle
+(--no-cycle skips these runs).
+
 Where the force error sits: the curvature kinks (clothoid ends) excite the leading wheelsets'
 undamped 131 Hz flange mode (docs/theory_flange_chatter.md section 11); the tight run follows
 its ringing, BDF2 at looser tolerances damps it sooner. The output samples every 20 ms alias
 that ringing, so the force error over the run is the ringing's sampled amplitude.
 
     python3 bench/solver_tolerance/run.py [--build DIR] [--decks tables strips] [--json FILE]
-        [--from-json FILE] [--no-write]
+        [--from-json FILE] [--no-write] [--no-cycle]
 
 Runs one at a time (2 shared cores). Writes the table into docs/performance.md (section
 solver_tolerance) unless --no-write; --from-json rewrites it from an earlier run's JSON.
@@ -52,6 +57,10 @@ DECKS = {"tables": "manchester_v1_tc1_tables.nml", "strips": "manchester_v1_tc1.
 #: max_order 2, its atol and atol_velocity): the variants keep the method and the order (and
 #: rtol, unless they name it); the row with the deck's own tolerances is marked in the table.
 VARIANTS = [("atol 1e-8, atol_velocity 1e-5", "atol = 1e-8, atol_velocity = 1e-5"),
+            ("atol 1e-7, atol_velocity 1e-5", "atol = 1e-7, atol_velocity = 1e-5"),
+            ("atol 3e-7, atol_velocity 1e-5", "atol = 3e-7, atol_velocity = 1e-5"),
+            ("atol 1e-6, atol_velocity 1e-5", "atol = 1e-6, atol_velocity = 1e-5"),
+            ("atol 1e-7, atol_velocity 2e-5", "atol = 1e-7, atol_velocity = 2e-5"),
             ("atol 1e-8, atol_velocity 3e-5", "atol = 1e-8, atol_velocity = 3e-5"),
             ("atol 1e-8, atol_velocity 1e-4", "atol = 1e-8, atol_velocity = 1e-4"),
             ("atol 3e-8, atol_velocity 1e-4", "atol = 3e-8, atol_velocity = 1e-4"),
@@ -93,6 +102,35 @@ def measure(exe, tmp, env, deck_key, label, solver, ref, t_end=None):
     return row, series, maxima
 
 
+#: The friction-0.6 variant of the acceptance deck (docs/theory_flange_chatter.md section 12):
+#: wheelset 1 enters a 135 Hz cycle on its flange at the clothoid's end (8.9 s), which the deck
+#: and a run at 100 times tighter tolerances both show. Each tolerance is also run on it to
+#: 10.5 s (2 ms samples): does the run reach the cycle?
+FRICTION_06 = REPO / "bench" / "manchester_friction" / "friction_06.nml"
+CYCLE_WINDOW = (9.8, 10.5)
+
+
+def cycle_probe(exe, tmp, env, tag, solver):
+    """Wheelset 1 in CYCLE_WINDOW of the friction-0.6 deck with `solver`: steps, the lateral
+    shift's and the height's peak to peak [mm], the left wheel's Y/Q range."""
+    deck = tmp / f"cycle_{tag}.nml"
+    deck.write_text(f"&include file = '{FRICTION_06}' /\n&simulation t_end = {CYCLE_WINDOW[1]} /\n"
+                    f"&output interval = 0.002 /\n" + (f"&solver {solver} /\n" if solver else ""))
+    out = tmp / f"cycle_{tag}.h5"
+    rc, err, cpu, _ = FM.run_timed(exe, deck, out, env, 3600.0)
+    if rc != 0:
+        return dict(cycle=f"exit {rc}")
+    with h5py.File(out, "r") as f:
+        t = f["time"][...]
+        m = (t > CYCLE_WINDOW[0]) & (t <= CYCLE_WINDOW[1] + 1e-9)
+        pos = f["bodies/ws1/position_track"][...]
+        wheel = f["wheelsets/w1/left/wheel"][...]
+        steps = int(f["meta/solver"].attrs["n_steps"])
+    out.unlink(missing_ok=True)
+    return dict(cycle_steps=steps, cycle_cpu=cpu, cycle_y=1e3 * float(np.ptp(pos[m, 1])),
+                cycle_z=1e3 * float(np.ptp(pos[m, 2])), cycle_yq=(float(wheel[m, 4].min()), float(wheel[m, 4].max())))
+
+
 def sampled_maxima(path):
     """The sampled maxima an assessment starts from: largest Y/Q of a wheel, largest Q, and the
     largest |Y_left + Y_right| of a wheelset (raw samples, no sliding means or filters)."""
@@ -107,7 +145,7 @@ def sampled_maxima(path):
     return dict(max_yq=max(yq), max_q=max(q), max_sum_y=max(sum_y))
 
 
-def render(rows, when):
+def render(rows, when, cycles=()):
     lines = [f"Measured {when}.", "",
              "Each row is the deck with only its `&solver` line changed (method 'bdf' and max_order 2 "
              "kept, rtol 1e-5 unless named); errors against the same deck at the tight tolerances (the fidelity "
@@ -129,6 +167,23 @@ def render(rows, when):
                      f"{FM.fmt(r.get('max_yq'), '.4f')} | {FM.fmt(r.get('max_q', float('nan')) / 1e3, '.2f')} | "
                      f"{FM.fmt(r.get('max_sum_y', float('nan')) / 1e3, '.2f')} | {r['rule']} | "
                      f"{'; '.join(r['notes'])} |")
+    if cycles:
+        lines += ["", f"The friction-0.6 deck (`bench/manchester_friction/friction_06.nml`) to {CYCLE_WINDOW[1]} s at "
+                  "each tolerance: does wheelset 1 reach the 135 Hz cycle on its flange that the tight run shows "
+                  "(docs/theory_flange_chatter.md section 12)? Peak to peak of its lateral shift y and height z, "
+                  f"and the left wheel's Y/Q range, in {CYCLE_WINDOW[0]}-{CYCLE_WINDOW[1]} s.", "",
+                  "| tolerances | steps | CPU s | y p-p [mm] | z p-p [mm] | Y/Q | the cycle |",
+                  "|---|---:|---:|---:|---:|---|---|"]
+        tight_y = next((c.get("cycle_y") for c in cycles if c["label"] == TIGHT[0]), None)
+        for c in cycles:
+            if "cycle_y" not in c:
+                lines.append(f"| {c['label']} | | | | | | {c.get('cycle', '')} |")
+                continue
+            reached = tight_y is not None and c["cycle_y"] > 0.5 * tight_y
+            lines.append(f"| {c['label']}{' (the deck)' if c['deck'] else ''} | {c['cycle_steps']} | "
+                         f"{c['cycle_cpu']:.1f} | {c['cycle_y']:.4f} | {c['cycle_z']:.4f} | "
+                         f"{c['cycle_yq'][0]:.2f} .. {c['cycle_yq'][1]:.2f} | "
+                         f"{'reached' if reached else '**not reached**'} |")
     return "\n".join(lines) + "\n"
 
 
@@ -139,6 +194,8 @@ def main():
     ap.add_argument("--json", default=None)
     ap.add_argument("--from-json", default=None)
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--no-cycle", dest="cycle", action="store_false",
+                    help="without the friction-0.6 runs (bench/manchester_friction/friction_06.nml to 10.5 s)")
     args = ap.parse_args()
     if args.from_json:
         data = json.loads(Path(args.from_json).read_text())
@@ -147,10 +204,15 @@ def main():
         rev = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
                              capture_output=True, text=True).stdout.strip()
         start = datetime.datetime.now(datetime.timezone.utc)
-        rows = []
+        rows, cycles = [], []
         with tempfile.TemporaryDirectory(prefix="raildyn-tol-") as tmpdir:
             tmp = Path(tmpdir)
             env = dict(os.environ, RAILDYN_CACHE_DIR=str(tmp / "cache"))
+            if args.cycle:
+                for label, solver in [TIGHT] + VARIANTS:
+                    c = cycle_probe(exe, tmp, env, "".join(ch if ch.isalnum() else "_" for ch in label[:40]), solver)
+                    print(f"   friction 0.6, {label}: {c}", flush=True)
+                    cycles.append(dict(label=label, deck=is_deck(solver) if solver != TIGHT[1] else False, **c))
             for key in args.decks:
                 if key == "tables":   # build the table once, outside the measured runs
                     warm = tmp / "warm.nml"
@@ -171,12 +233,12 @@ def main():
                     rows.append(dict(deck=key, label=label, **row_fields(row), **maxima))
         end = datetime.datetime.now(datetime.timezone.utc)
         load = os.getloadavg()[0]
-        data = dict(rows=rows, when=f"on commit {rev}, {start:%Y-%m-%d %H:%M}-{end:%H:%M} UTC, one run at a "
+        data = dict(rows=rows, cycles=cycles, when=f"on commit {rev}, {start:%Y-%m-%d %H:%M}-{end:%H:%M} UTC, one run at a "
                                     f"time (load average {load:.1f} at the end)")
         if args.json:
             Path(args.json).parent.mkdir(parents=True, exist_ok=True)
             Path(args.json).write_text(json.dumps(data, indent=1))
-    text = render(data["rows"], data["when"])
+    text = render(data["rows"], data["when"], data.get("cycles", []))
     print(text)
     if not args.no_write:
         write_section("solver_tolerance", text,
