@@ -121,3 +121,47 @@ def test_solver_tolerance_measures_and_renders(build_dir, tmp_path):
             for label, row, m in (("tight", ref_row, ref_max), ("deck", deck_row, deck_max))]
     text = st.render(rows, "test")
     assert "| tables | tight |" in text and "| tables | deck |" in text, text
+
+
+def test_friction_energy_work_per_cycle(tmp_path):
+    """bench/manchester_friction/energy.py on a synthetic results file with a closed form: a
+    lateral cycle at 140 Hz, a flange patch whose lateral creepage fluctuates, eta = e0 + e1 sin,
+    with a viscous creep force Fy = -c eta (longitudinal and spin zero): the creep work per
+    cycle is -v c (e0^2 + e1^2 / 2) T and its part on the fluctuation -v c e1^2 T / 2; a normal
+    force N = k delta (conservative: no loop work) and a height z = z1 sin (rate amplitude z1 w)."""
+    import h5py
+    en = _load("bench/manchester_friction/energy.py", "bench_manchester_friction_energy")
+    f_hz, v, c, e0, e1, k, z1 = 140.0, 4.4, 2.0e6, 1.0e-3, 2.0e-4, 1.0e9, 5.0e-5
+    w = 2 * np.pi * f_hz
+    t = np.arange(0.0, 0.2, 1.0 / (f_hz * 400))
+    s = np.sin(w * t)
+    pos = np.zeros((t.size, 6))
+    pos[:, 1] = 1.0e-5 * s
+    pos[:, 2] = z1 * s
+    vel = np.zeros((t.size, 6))
+    vel[:, 1] = 1.0e-5 * w * np.cos(w * t)
+    patch = np.zeros((t.size, 23))
+    patch[:, 0] = 2
+    patch[:, 1] = 8.0e-5 + 1.0e-5 * s            # penetration
+    patch[:, 2] = k * patch[:, 1]                 # normal force, a function of the penetration
+    patch[:, 4] = e0 + e1 * s                     # eta
+    patch[:, 7] = -c * patch[:, 4]                # Fy
+    patch[:, 22] = v
+    path = tmp_path / "synthetic.h5"
+    with h5py.File(path, "w") as h:
+        h["time"] = t
+        h["bodies/ws1/position_track"] = pos
+        h["bodies/ws1/velocity_track"] = vel
+        for side in ("left", "right"):
+            for j in range(1, 5):
+                h[f"wheelsets/w1/{side}/patch{j}"] = patch if (side, j) == ("left", 1) else np.zeros_like(patch)
+    r = en.analyse(path, 0.0, 0.2)
+    period = 1.0 / f_hz
+    assert r["frequency"] == pytest.approx(f_hz, rel=1e-3)
+    left = r["wheels"]["left"]
+    assert left["creep"] == pytest.approx(-v * c * (e0 ** 2 + e1 ** 2 / 2) * period, rel=1e-3)
+    assert sum(left["creep_on_fluctuation"]) == pytest.approx(-v * c * e1 ** 2 / 2 * period, rel=1e-3)
+    assert abs(left["normal_loop"]) < 1e-6 * k * 1e-5 * 1e-5
+    assert r["z_rate_amplitude"] == pytest.approx(z1 * w, rel=1e-3)
+    assert r["energy_scale"] == pytest.approx(0.5 * en.WHEELSET_MASS * (1.0e-5 * w) ** 2, rel=1e-3)
+    assert r["wheels"]["right"]["creep"] == 0.0
