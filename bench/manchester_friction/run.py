@@ -21,7 +21,6 @@ The build is --build, else $RAILDYN_BUILD_DIR, else <repo>/build.
 """
 import argparse
 import os
-import re
 import resource
 import subprocess
 import sys
@@ -36,6 +35,7 @@ REPO = HERE.parents[1]
 sys.path.insert(0, str(REPO / "python"))
 import raildyn  # noqa: E402
 from raildyn import validation as V  # noqa: E402
+from raildyn.validation.runs import read_deck  # noqa: E402
 
 DECKS = {"04": REPO / "inputs" / "manchester_v1_tc1.nml", "02": HERE / "friction_02.nml",
          "06": HERE / "friction_06.nml"}
@@ -84,9 +84,8 @@ def measure(path: Path) -> dict:
 
 
 def deck_atol() -> float:
-    """The acceptance deck's atol (its &solver line)."""
-    line = next(ln for ln in DECKS["04"].read_text().splitlines() if ln.startswith("&solver"))
-    return float(re.search(r"\batol\s*=\s*([0-9.eE+-]+)", line).group(1))
+    """The acceptance deck's atol, as the runner reads it."""
+    return float(read_deck(DECKS["04"])["groups"]["solver"][0]["atol"])
 
 
 def entry_differences(a: dict, b: dict) -> dict:

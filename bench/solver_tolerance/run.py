@@ -44,7 +44,9 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "bench"))
+sys.path.insert(0, str(REPO / "python"))
 from performance_section import write_section  # noqa: E402
+from raildyn.validation.runs import read_deck  # noqa: E402
 
 # the fidelity map's runner and error measures (one definition of "error against a reference")
 _spec = importlib.util.spec_from_file_location("fidelity_map", REPO / "bench" / "fidelity_map" / "run.py")
@@ -73,11 +75,9 @@ TIGHT = ("tight: rtol 1e-7, atol 1e-10 (coordinates and rates)", FM.REFERENCE_SO
 
 
 def deck_tolerances():
-    """(rtol, atol, atol_velocity) of the acceptance deck's &solver line."""
-    text = (REPO / "inputs" / DECKS["strips"]).read_text()
-    line = next(ln for ln in text.splitlines() if ln.startswith("&solver"))
-    return tuple(float(re.search(rf"\b{k}\s*=\s*([0-9.eE+-]+)", line).group(1))
-                 for k in ("rtol", "atol", "atol_velocity"))
+    """(rtol, atol, atol_velocity) of the acceptance deck's &solver, as the runner reads it."""
+    solver = read_deck(REPO / "inputs" / DECKS["strips"])["groups"]["solver"][0]
+    return solver["rtol"], solver["atol"], solver["atol_velocity"]
 
 
 def is_deck(solver):

@@ -77,8 +77,8 @@ def test_records_equal_the_trapezoid_means_of_a_dense_run(raildyn_exe, tmp_path)
 
 
 def test_sub_samples_cost_no_integrator_steps(raildyn_exe, tmp_path):
-    """The integrator stops at the advance target only and interpolates the records and the
-    sub-samples, so a run with means takes exactly the steps of the same run writing samples
+    """The integrator stops only at the run's end (the runner's horizon) and interpolates the
+    records and the sub-samples, so a run with means takes exactly the steps of the same run writing samples
     (given the first step: CVODE estimates it from the first target time, a sub-sample or a
     record)."""
     stats = []
