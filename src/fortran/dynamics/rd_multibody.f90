@@ -22,6 +22,7 @@
 !> block-diagonal (m I, H^T J H) because the body frame sits at the CG, so the reduced
 !> system is solved body by body with at most 3x3 eliminations and no allocation.
 module rd_multibody
+  use, intrinsic :: iso_fortran_env, only: int64
   use rd_kinds, only: wp, standard_gravity
   use rd_error, only: error_t, make_error, error_context, retry_error, nonfinite_error, finite, RD_ERR_INPUT, &
                       RD_ERR_RUNTIME, RD_ERR_INTERNAL, RD_ERR_PHYSICS
@@ -42,6 +43,12 @@ module rd_multibody
   implicit none
   private
   public :: multibody_t, multibody_output_t
+
+  !> solutions of the quasi-static coordinates kept (multibody_t%qs_history): more than the
+  !> distinct stage times of the attempts of one explicit step (Dormand-Prince: 5 new times
+  !> an attempt, ARKODE's default limit of 7 error-test failures a step: 40), so that a
+  !> restart from the last accepted step finds that step's solution
+  integer, parameter :: qs_history_size = 48
 
   !> The outputs of one evaluation at (t, y) (calc_output). Wheelset pitch: the spin angle.
   type :: multibody_output_t
@@ -86,11 +93,14 @@ module rd_multibody
     !> the Newton solve, kept between evaluations (the state moves little between calls)
     real(wp), allocatable :: qs_jacobian(:, :, :)
     logical, allocatable :: qs_jacobian_valid(:)
-    !> the last two solutions of the quasi-static coordinates at distinct times, newest
-    !> first ((z, roll), body, 2), and their times: a solve at a new time starts from their
-    !> extrapolation (solve_quasi_static)
+    !> the last qs_history_size solutions of the quasi-static coordinates at distinct
+    !> times, newest first ((z, roll), body, entry), their times and a digest of the state
+    !> they solved: a solve at a new time starts from the extrapolation of the newest two, a
+    !> solve of the state of an older entry (same time, same digest) from that entry
+    !> (solve_quasi_static)
     real(wp), allocatable :: qs_history(:, :, :)
-    real(wp) :: qs_history_t(2) = 0
+    real(wp) :: qs_history_t(qs_history_size) = 0
+    integer(int64) :: qs_history_state(qs_history_size) = 0
     integer :: qs_history_count = 0
     logical :: has_quasi_static = .false.
     !> hold the quasi-static coordinates where they are instead of solving them (the static
@@ -175,7 +185,7 @@ contains
     allocate (self%qs_jacobian(2, 2, size(bodies)), self%qs_jacobian_valid(size(bodies)))
     self%qs_jacobian = 0
     self%qs_jacobian_valid = .false.
-    allocate (self%qs_history(2, size(bodies), 2))
+    allocate (self%qs_history(2, size(bodies), qs_history_size))
     self%qs_history = 0
     self%qs_history_count = 0
     allocate (self%elements(0), self%providers(0), self%el_state_start(0), self%scratch%el_res(0))
@@ -703,13 +713,30 @@ contains
 
     !> At a new time, start from the linear extrapolation in time of the last two solutions
     !> at distinct times (within max_extrapolation of their interval), else from the newest
-    !> solution; at the time of the newest solution, from where the last evaluation left q0.
+    !> solution; at the time of the newest solution, from where the last evaluation left q0;
+    !> for the very state (t, y) an older entry solved, from that entry's solution. The last
+    !> case is an explicit integrator's restart from its last accepted step after a failed
+    !> stage (sundials_glue.c, erk_evolve): the accepted step's last stage solved this very
+    !> state, while the newest solutions belong to the failed step's stages, ahead in time and
+    !> off the solution; near a wheel's lift-off their extrapolation can start the iteration
+    !> where it does not converge (bench/extremes, Manchester flange climb with erk). Only the
+    !> same state: CVODE comes back to an earlier time with another state (a step retried
+    !> after a failure, then two shorter ones), and the solution of the failed attempt's
+    !> state is no better a start than the extrapolation.
     subroutine extrapolate_start()
       real(wp) :: f
-      integer :: k
+      integer :: k, e
       if (self%qs_history_count < 1 .or. t == self%qs_history_t(1)) return
+      do e = 2, self%qs_history_count
+        if (t /= self%qs_history_t(e) .or. state_digest(y) /= self%qs_history_state(e)) cycle
+        do k = 1, size(self%bodies)
+          if (qs(k)) self%bodies(k)%q0([DOF_Z, DOF_ROLL]) = self%qs_history(:, k, e)
+        end do
+        call update_quasi_static_kinematics(self, t, y)
+        return
+      end do
       f = 0
-      if (self%qs_history_count == 2) then
+      if (self%qs_history_count >= 2) then
         f = (t - self%qs_history_t(1)) / (self%qs_history_t(1) - self%qs_history_t(2))
         if (abs(f) > max_extrapolation) f = 0
       end if
@@ -721,14 +748,17 @@ contains
       call update_quasi_static_kinematics(self, t, y)
     end subroutine extrapolate_start
 
-    !> Keep the solution at t as the newest of the history (replacing one at the same t).
+    !> Keep the solution at t as the newest of the history (replacing one at the same t,
+    !> the oldest dropped).
     subroutine remember_solution()
       if (self%qs_history_count == 0 .or. t /= self%qs_history_t(1)) then
-        self%qs_history(:, :, 2) = self%qs_history(:, :, 1)
-        self%qs_history_t(2) = self%qs_history_t(1)
-        self%qs_history_count = min(2, self%qs_history_count + 1)
+        self%qs_history(:, :, 2:) = self%qs_history(:, :, :qs_history_size - 1)
+        self%qs_history_t(2:) = self%qs_history_t(:qs_history_size - 1)
+        self%qs_history_state(2:) = self%qs_history_state(:qs_history_size - 1)
+        self%qs_history_count = min(qs_history_size, self%qs_history_count + 1)
       end if
       self%qs_history_t(1) = t
+      self%qs_history_state(1) = state_digest(y)
       self%qs_history(:, :, 1) = quasi_static_coordinates()
     end subroutine remember_solution
 
@@ -796,6 +826,22 @@ contains
       end if
     end function pseudo_transient_update
   end subroutine solve_quasi_static
+
+  !> A digest of a state vector's bits (rotate and exclusive-or of its 64-bit words): equal
+  !> states give equal digests; two different states of one run giving the same one is
+  !> as good as impossible, and would only choose the quasi-static solve's start
+  !> (solve_quasi_static, extrapolate_start).
+  pure function state_digest(y) result(h)
+    real(wp), intent(in) :: y(:)
+    integer(int64) :: h
+    integer(int64) :: words(size(y))
+    integer :: i
+    words = transfer(y, words)
+    h = int(size(y), int64)
+    do i = 1, size(y)
+      h = ieor(ishftc(h, 23), words(i))
+    end do
+  end function state_digest
 
   !> z'' and roll'' (relative) of every quasi-static body at the current kinematics.
   subroutine quasi_static_residual(self, t, y, ydot, r, error)

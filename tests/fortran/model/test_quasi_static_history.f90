@@ -1,7 +1,8 @@
 !> The quasi-static solve does not depend on its call history (rd_multibody
 !> solve_quasi_static). The solve starts at a new time from the linear extrapolation in time
-!> of its last two solutions and keeps chord Jacobians between calls (secant updates); both
-!> only choose the start and the iteration matrix, so the answer must be the balance at
+!> of its last two solutions (for the state an older kept solution solved, from that one) and keeps
+!> chord Jacobians between calls (secant updates); both only choose the start and the
+!> iteration matrix, so the answer must be the balance at
 !> (t, y) whatever came before. On the acceptance deck inputs/manchester_v1_tc1.nml, at
 !> points of the run on straight track, in the transition and in the curve with wheelset 1
 !> on its flange (17 s: sigma ~ 105 m), the right-hand side is evaluated
