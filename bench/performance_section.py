@@ -4,10 +4,30 @@
 
     python3 bench/performance_section.py NAME TABLE_FILE [TITLE]
 """
+import argparse
+import os
+import subprocess
 import sys
 from pathlib import Path
 
-DOC = Path(__file__).resolve().parents[1] / "docs" / "performance.md"
+REPO = Path(__file__).resolve().parents[1]
+DOC = REPO / "docs" / "performance.md"
+
+
+def bench_arguments(doc: str) -> argparse.ArgumentParser:
+    """The options every measuring script takes: --build, --json, --from-json, --no-write."""
+    ap = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    ap.add_argument("--build", default=os.environ.get("RAILDYN_BUILD_DIR", str(REPO / "build")))
+    ap.add_argument("--json", default=None, help="write the measurements as JSON")
+    ap.add_argument("--from-json", default=None, help="render an earlier run's JSON instead of measuring")
+    ap.add_argument("--no-write", action="store_true", help="print, leave docs/performance.md alone")
+    return ap
+
+
+def git_revision() -> str:
+    """The repository's HEAD, short (the 'on commit' of a published measurement)."""
+    return subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
+                          capture_output=True, text=True).stdout.strip()
 
 
 def write_section(name: str, body: str, title: str = "") -> None:

@@ -28,7 +28,6 @@ that ringing, so the force error over the run is the ringing's sampled amplitude
 Runs one at a time (2 shared cores). Writes the table into docs/performance.md (section
 solver_tolerance) unless --no-write; --from-json rewrites it from an earlier run's JSON.
 """
-import argparse
 import datetime
 import importlib.util
 import json
@@ -45,7 +44,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "bench"))
 sys.path.insert(0, str(REPO / "python"))
-from performance_section import write_section  # noqa: E402
+from performance_section import bench_arguments, git_revision, write_section  # noqa: E402
 from raildyn.validation.runs import read_deck  # noqa: E402
 
 # the fidelity map's runner and error measures (one definition of "error against a reference")
@@ -188,12 +187,8 @@ def render(rows, when, cycles=()):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--build", default=os.environ.get("RAILDYN_BUILD_DIR", str(REPO / "build")))
+    ap = bench_arguments(__doc__)
     ap.add_argument("--decks", nargs="+", choices=list(DECKS), default=list(DECKS))
-    ap.add_argument("--json", default=None)
-    ap.add_argument("--from-json", default=None)
-    ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--no-cycle", dest="cycle", action="store_false",
                     help="without the friction-0.6 runs (bench/manchester_friction/friction_06.nml to 10.5 s)")
     args = ap.parse_args()
@@ -201,8 +196,7 @@ def main():
         data = json.loads(Path(args.from_json).read_text())
     else:
         exe = Path(args.build).resolve() / "bin" / "raildyn"
-        rev = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"],
-                             capture_output=True, text=True).stdout.strip()
+        rev = git_revision()
         start = datetime.datetime.now(datetime.timezone.utc)
         rows, cycles = [], []
         with tempfile.TemporaryDirectory(prefix="raildyn-tol-") as tmpdir:

@@ -11,6 +11,7 @@ unnoticed once when raildyn.validation renamed a helper). Nothing is timed.
   window yet), its entry differences on two entry sets built from the package table (a 1 kN
   change of one force entry is 1 kN and 100 kN / S % of its family's scale), and cycle.py's
   `report` on the same results file.
+- bench/jacobian_age/run.py: `measure_deck` on a short knife-edge run at two ages, and `render`.
 - bench/solver_tolerance/run.py: its `measure` on the tables deck shortened to 0.3 s, at the
   deck's tolerances against the tight run: the sampled maxima equal those read from the file
   by raildyn.Results, the tight run compared with itself differs by 0 and the deck's run does
@@ -165,3 +166,22 @@ def test_friction_energy_work_per_cycle(tmp_path):
     assert r["z_rate_amplitude"] == pytest.approx(z1 * w, rel=1e-3)
     assert r["energy_scale"] == pytest.approx(0.5 * en.WHEELSET_MASS * (1.0e-5 * w) ** 2, rel=1e-3)
     assert r["wheels"]["right"]["creep"] == 0.0
+
+
+def test_jacobian_age_measures_and_renders(build_dir, tmp_path):
+    """bench/jacobian_age/run.py: `measure_deck` on the TGV knife-edge curve deck shortened to
+    0.3 s at the default age and an old one: the default is the reference (no difference to
+    itself: NaN), the old age evaluates fewer Jacobians and is compared with it (a finite
+    difference; its size is test_solver_jacobian_age's, over 1 s); `render` lists both."""
+    bench = _load("bench/jacobian_age/run.py", "bench_jacobian_age")
+    env = dict(os.environ, RAILDYN_CACHE_DIR=str(tmp_path / "cache"))
+    rows = bench.measure_deck(build_dir / "bin" / "raildyn", tmp_path, env, "tgv knife-edge curve",
+                              "tgv_vehicle_curve.nml", False, ages=[51, 1000], rounds=1, t_end=0.3)
+    ref, old = rows
+    assert (ref["age"], old["age"]) == (51, 1000)
+    assert ref["outcome"] == old["outcome"] == "completed"
+    assert not np.isfinite(ref["err_y"])
+    assert 0 < old["jac"] < ref["jac"], (old, ref)
+    assert np.isfinite(old["err_y"]) and np.isfinite(old["err_force"])
+    text = bench.render(dict(rows=rows, cycles=[dict(age=51, cycle="skipped")], when="in a test"))
+    assert "| tgv knife-edge curve | 51 |" in text and "| tgv knife-edge curve | 1000 |" in text

@@ -139,6 +139,7 @@ MUTATIONS = {
     ("solver", "max_num_steps"): ([], [("&solver", "max_num_steps", "3")], True),
     ("solver", "fixed_step"): ([("&solver", "method", "'rk4'")], [("&solver", "fixed_step", "5e-5")], False),
     ("solver", "max_order"): ([], [("&solver", "max_order", "1")], False),
+    ("solver", "jacobian_max_age"): ([], [("&solver", "jacobian_max_age", "1")], False),
     ("solver", "jacobian"): ([], [("&solver", "jacobian", "'dense'")], False),
     ("output", "file"): ([], [("&output", "file", "'elsewhere.h5'")], False),
     ("output", "interval"): ([], [("&output", "interval", "0.002")], False),

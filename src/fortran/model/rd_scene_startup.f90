@@ -72,6 +72,8 @@ contains
     call self%deck%get('solver', 1, 'max_num_steps', self%solver%max_num_steps, error); if (allocated(error)) return
     call self%deck%get('solver', 1, 'fixed_step', self%solver%fixed_step, error); if (allocated(error)) return
     call self%deck%get('solver', 1, 'max_order', self%solver%max_order, error); if (allocated(error)) return
+    call self%deck%get('solver', 1, 'jacobian_max_age', self%solver%jacobian_max_age, error)
+    if (allocated(error)) return
     call self%deck%get('solver', 1, 'jacobian', self%jacobian, error); if (allocated(error)) return
   end procedure build_mechanics
 

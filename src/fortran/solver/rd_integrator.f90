@@ -38,7 +38,7 @@ module rd_integrator
   use rd_coloured_jacobian, only: jacobian_sparsity_t
   use rd_fixed_step, only: fixed_step_work_t, rk4_step, heun_step
   use rd_sundials_glue, only: rd_glue_create, rd_glue_destroy, rd_glue_set_tolerances, &
-                              rd_glue_set_limits, rd_glue_use_jacobian, rd_glue_advance, &
+                              rd_glue_set_limits, rd_glue_use_jacobian, rd_glue_set_jacobian_age, rd_glue_advance, &
                               rd_glue_reinit, rd_glue_get_stats, rd_glue_flag_name, &
                               rd_glue_last_message, c_string_to_fortran
   implicit none
@@ -178,6 +178,8 @@ contains
                                                  int(settings%max_order, c_int))
         if (flag == 0 .and. (present(jacobian) .or. present(jacobian_sparsity)) .and. &
             self%method == METHOD_BDF) flag = rd_glue_use_jacobian(self%glue)
+        if (flag == 0 .and. self%method == METHOD_BDF) &
+          flag = rd_glue_set_jacobian_age(self%glue, int(settings%jacobian_max_age, c_long))
         if (flag /= 0) call make_error(error, RD_ERR_RUNTIME, self%method_name() // &
                                        ': ' // self%sundials_text(int(flag)))
       end if

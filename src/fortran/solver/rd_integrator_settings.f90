@@ -29,6 +29,8 @@ module rd_integrator_settings
     integer :: max_num_steps = 100000     !< steps allowed in one advance call
     real(wp) :: fixed_step = 0.0_wp       !< step of 'rk4'/'heun' [s] (required > 0 there)
     integer :: max_order = 0              !< cap on the BDF (<= 5) or Adams (<= 12) order; 0 = default
+    !> most BDF steps between two Jacobian evaluations (CVODE's msbj; its default 51)
+    integer :: jacobian_max_age = 51
   end type integrator_settings_t
 
   !> Counters, cumulative since `build` (reinit does not reset them).
@@ -106,6 +108,8 @@ contains
     case (METHOD_BDF)
       call require(settings%max_order >= 0 .and. settings%max_order <= 5, &
                    "max_order is invalid for method 'bdf'; expected 1..5 (0 = default 5)")
+      call require(settings%jacobian_max_age >= 1, 'jacobian_max_age must be a positive integer ' // &
+                   '(steps between Jacobian evaluations, default 51)')
     case (METHOD_ADAMS)
       call require(settings%max_order >= 0 .and. settings%max_order <= 12, &
                    "max_order is invalid for method 'adams'; expected 1..12 (0 = default 12)")

@@ -10,7 +10,7 @@ module rd_sundials_glue
   implicit none
   private
   public :: rd_glue_create, rd_glue_destroy, rd_glue_set_tolerances, rd_glue_set_limits
-  public :: rd_glue_use_jacobian, rd_glue_advance, rd_glue_reinit, rd_glue_get_stats
+  public :: rd_glue_use_jacobian, rd_glue_set_jacobian_age, rd_glue_advance, rd_glue_reinit, rd_glue_get_stats
   public :: rd_glue_flag_name, rd_glue_last_message, c_string_to_fortran
   public :: rd_solver_rhs_callback, rd_solver_jac_callback
 
@@ -51,6 +51,13 @@ module rd_sundials_glue
       integer(c_int), value :: max_order
       integer(c_int) :: flag
     end function rd_glue_set_limits
+
+    function rd_glue_set_jacobian_age(handle, max_age) result(flag) bind(C, name='rd_glue_set_jacobian_age')
+      import :: c_ptr, c_int, c_long
+      type(c_ptr), value :: handle
+      integer(c_long), value :: max_age
+      integer(c_int) :: flag
+    end function rd_glue_set_jacobian_age
 
     function rd_glue_use_jacobian(handle) result(flag) bind(C, name='rd_glue_use_jacobian')
       import :: c_ptr, c_int

@@ -396,6 +396,16 @@ int rd_glue_set_limits(void *handle, double max_step, double min_step, double in
   return flag;
 }
 
+/* BDF: at most max_age steps between two Jacobian evaluations (CVODE's msbj, default 51);
+ * CVODE evaluates it sooner after a Newton convergence failure with an old one. */
+int rd_glue_set_jacobian_age(void *handle, long max_age) {
+  rd_glue_t *g = (rd_glue_t *)handle;
+  if (g->method != RD_GLUE_BDF) return 0;
+  int flag = CVodeSetJacEvalFrequency(g->mem, max_age);
+  if (flag != 0) rd_glue_note(g, "CVodeSetJacEvalFrequency", flag);
+  return flag;
+}
+
 /* Use the Fortran Jacobian callback instead of CVODE's difference quotients. */
 int rd_glue_use_jacobian(void *handle) {
   rd_glue_t *g = (rd_glue_t *)handle;

@@ -308,6 +308,11 @@ contains
       only_with(pint('max_order', '-', 'largest method order; 0 = method default (bdf: at most 5, ' // &
                      'checked when the scene is built; adams: at most 12)', 0, min=0, max=12), &
                 'method', 'bdf|adams'), &
+      only_with(pint('jacobian_max_age', '-', 'most steps between two evaluations of the Jacobian of ' // &
+                     "bdf's Newton matrix (CVODE's default 51); CVODE evaluates it sooner where Newton " // &
+                     'fails to converge: an older one costs Newton iterations and changes the step ' // &
+                     'sizes, not the tolerances (docs/theory_solver.md "Jacobian age")', 51, min=1), &
+                'method', 'bdf'), &
       only_with(pstr('jacobian', 'Newton-matrix Jacobian of bdf: difference quotients grouping bodies ' // &
                      'that share no force element (coloured) or one state at a time (dense, CVODE)', &
                      default='coloured', allowed='coloured|dense'), 'method', 'bdf')])
