@@ -14,8 +14,12 @@ With --compare DIR (the results of another build, e.g. before a change, kept by 
 prints the largest change of each deck's 32 window entries in % of their family's scale S
 (raildyn.validation, as bench/fidelity_map/run.py compares).
 
+With --tables the same on the tables deck (inputs/manchester_v1_tc1_tables.nml, its friction set
+per wheelset as the variants set it): the strips' friction-0.6 cycle is not there
+(docs/theory_flange_chatter.md section 12).
+
     python3 bench/manchester_friction/run.py [--build DIR] [--work DIR] [--keep] [--compare DIR]
-        [--only 02 04 06] [--timeout S] [--single]
+        [--only 02 04 06] [--timeout S] [--single] [--tables]
 
 The build is --build, else $RAILDYN_BUILD_DIR, else <repo>/build.
 """
@@ -39,6 +43,17 @@ from raildyn.validation.runs import read_deck  # noqa: E402
 
 DECKS = {"04": REPO / "inputs" / "manchester_v1_tc1.nml", "02": HERE / "friction_02.nml",
          "06": HERE / "friction_06.nml"}
+#: --tables: the same scene on contact tables (issue 14's deck), the friction set per wheelset
+#: as friction_02.nml / friction_06.nml set it on the acceptance deck
+TABLES_DECK = REPO / "inputs" / "manchester_v1_tc1_tables.nml"
+
+
+def deck_text(key: str, tables: bool) -> str:
+    """The include line of the friction variant `key` (with --tables: of the tables deck)."""
+    if not tables:
+        return f"&include file = '{DECKS[key]}' /\n"
+    friction = "".join(f"&wheelset name = 'w{k}', friction = 0.{key[1]} /\n" for k in range(1, 5))
+    return f"&include file = '{TABLES_DECK}' /\n" + (friction if key != "04" else "")
 UNITS = {"mm": 1e3, "mrad": 1e3, "kN": 1e-3}
 BOUNDS = {"mm": 0.02, "mrad": 0.02, "kN": 0.1}
 
@@ -114,6 +129,8 @@ def main():
     ap.add_argument("--only", nargs="*", default=list(DECKS), choices=list(DECKS))
     ap.add_argument("--timeout", type=float, default=1800.0, help="wall-clock limit per run [s]")
     ap.add_argument("--single", action="store_true", help="the decks only, without their smaller-atol runs")
+    ap.add_argument("--tables", action="store_true",
+                    help="the tables deck (inputs/manchester_v1_tc1_tables.nml) at each friction instead")
     args = ap.parse_args()
     exe = args.build / "bin" / "raildyn"
     work = args.work or Path(tempfile.mkdtemp(prefix="manchester_friction_"))
@@ -131,7 +148,7 @@ def main():
             variants.append((f"atol{0.9 * atol:.0e}", f"&solver atol = {0.9 * atol:.1e} /\n"))
         for tag, extra in variants[:1] if args.single else variants:
             deck = work / f"friction_{key}__{tag}.nml"
-            deck.write_text(f"&include file = '{DECKS[key]}' /\n{extra}")
+            deck.write_text(deck_text(key, args.tables) + extra)
             out = work / f"friction_{key}__{tag}.h5"
             rc, cpu, wall = run(exe, deck, out, args.timeout)
             if rc != 0:
