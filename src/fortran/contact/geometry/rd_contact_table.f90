@@ -237,8 +237,9 @@ contains
                              table%options%reference_approach, row, found, error)
           ! a yawed flange part far from the rail can defeat the touch search (the face more
           ! than 3-17 mm of shift away from its contact at 5-40 mrad: not bracketed); it has
-          ! the zero-yaw data there (below)
-          if (allocated(error) .and. psis(ip) /= 0) then
+          ! the zero-yaw data there (below). The tread always meets the rail: its failure is
+          ! an error, at any yaw
+          if (allocated(error) .and. psis(ip) /= 0 .and. slot /= TABLE_SLOT_TREAD) then
             deallocate (error)
             found = .false.
           end if
