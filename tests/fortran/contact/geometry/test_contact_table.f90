@@ -18,7 +18,7 @@ program test_contact_table
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
   use rd_contact_geometry, only: contact_geometry_t, build_strip_contact, build_table_contact, wheel_contact, &
     SIDE_LEFT, SIDE_RIGHT
-  use rd_contact_table, only: contact_table_options_t, contact_table_t
+  use rd_contact_table, only: contact_table_options_t, contact_table_t, table_wheel_contact
   use rd_contact_table_cache, only: obtain_contact_table
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
   use rd_contact_patch, only: wheel_contact_t, PATCH_TREAD
@@ -76,10 +76,57 @@ program test_contact_table
   call flange_onset()
   call a22_through_table()
   call yaw_measurement()
+  call skipped_slots_change_nothing()
 
   call test_summary('test_contact_table')
 
 contains
+
+  !> table_wheel_contact skips a flange slot whose interpolated touch height is certainly
+  !> clear of the rail by more than the tread's approach (a bound from the node values):
+  !> exact, so over poses across the table (shifts -12..12 mm, rolls inside and beyond the
+  !> roll range, yaws inside and beyond the yaw range, the wheel lowered 5 and 60 um below
+  !> the strips' touch and lifted 0.1 and 2 mm) every result equals, bit for bit, the
+  !> evaluation of every slot; and the skip happens (poses where a flange slot is clear).
+  subroutine skipped_slots_change_nothing()
+    real(wp), parameter :: phis(4) = [-0.02_wp, 0.0_wp, 0.013_wp, 0.031_wp]
+    real(wp), parameter :: psis(4) = [0.0_wp, 0.007_wp, -0.019_wp, 0.06_wp]
+    real(wp), parameter :: dzs(4) = [-6.0e-5_wp, -5.0e-6_wp, 1.0e-4_wp, 2.0e-3_wp]
+    type(wheel_contact_t) :: fast, every
+    real(wp) :: y, z0
+    integer :: i, ip, iy, iz, k, poses, differ, one_patch
+    poses = 0; differ = 0; one_patch = 0
+    do i = -32, 32
+      y = i * 3.7e-4_wp
+      do ip = 1, size(phis)
+        z0 = touch_z(strip, y, phis(ip), 0.0_wp)
+        do iy = 1, size(psis)
+          do iz = 1, size(dzs)
+            call table_wheel_contact(table%table, y, z0 + dzs(iz), phis(ip), psis(iy), fast)
+            call table_wheel_contact(table%table, y, z0 + dzs(iz), phis(ip), psis(iy), every, every_slot=.true.)
+            poses = poses + 1
+            if (fast%n_patches == 1) one_patch = one_patch + 1
+            if (fast%n_patches /= every%n_patches .or. fast%max_penetration /= every%max_penetration) then
+              differ = differ + 1
+              cycle
+            end if
+            do k = 1, fast%n_patches
+              associate (a => fast%patch(k), b => every%patch(k))
+                if (a%kind /= b%kind .or. a%penetration /= b%penetration .or. a%contact_angle /= b%contact_angle &
+                    .or. any(a%point_rail /= b%point_rail) .or. any(a%point_wheel /= b%point_wheel) &
+                    .or. a%rolling_radius /= b%rolling_radius .or. a%curv_wheel_lat /= b%curv_wheel_lat &
+                    .or. a%curv_rail_lat /= b%curv_rail_lat) differ = differ + 1
+              end associate
+            end do
+          end do
+        end do
+      end do
+    end do
+    write (*, '(a,i0,a,i0,a,i0)') 'skipped flange slots: ', poses, ' poses, ', one_patch, ' with one patch, differing: ', &
+      differ
+    call check(differ == 0, 'skipping the flange slots clear of the rail changes no result')
+    call check(one_patch > poses / 4, 'the poses include many with the tread alone in contact (the skip is exercised)')
+  end subroutine skipped_slots_change_nothing
 
   !> The cache (rd_contact_table_cache) in a scratch directory: a built table is stored and
   !> read back equal; a table with other inputs (another inclination) has another key and is
