@@ -5,6 +5,8 @@
     python3 bench/performance_section.py NAME TABLE_FILE [TITLE]
 """
 import argparse
+import datetime
+import json
 import os
 import subprocess
 import sys
@@ -22,6 +24,17 @@ def bench_arguments(doc: str) -> argparse.ArgumentParser:
     ap.add_argument("--from-json", default=None, help="render an earlier run's JSON instead of measuring")
     ap.add_argument("--no-write", action="store_true", help="print, leave docs/performance.md alone")
     return ap
+
+
+def earlier_json(args) -> dict | None:
+    """The measurements of an earlier run (--from-json), or None: measure now."""
+    return json.loads(Path(args.from_json).read_text()) if args.from_json else None
+
+
+def measurement_start(args) -> tuple[Path, str, datetime.datetime]:
+    """The runner to measure (--build), the repository's revision and the start time (UTC)."""
+    return (Path(args.build).resolve() / "bin" / "raildyn", git_revision(),
+            datetime.datetime.now(datetime.timezone.utc))
 
 
 def git_revision() -> str:

@@ -38,7 +38,7 @@ import h5py
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "bench"))
-from performance_section import bench_arguments, git_revision, write_section  # noqa: E402
+from performance_section import bench_arguments, earlier_json, measurement_start, write_section  # noqa: E402
 
 
 def _load(name, path):
@@ -148,12 +148,9 @@ def render(data):
 
 def main():
     args = bench_arguments(__doc__).parse_args()
-    if args.from_json:
-        data = json.loads(Path(args.from_json).read_text())
-    else:
-        exe = Path(args.build).resolve() / "bin" / "raildyn"
-        rev = git_revision()
-        start = datetime.datetime.now(datetime.timezone.utc)
+    data = earlier_json(args)
+    if data is None:
+        exe, rev, start = measurement_start(args)
         with tempfile.TemporaryDirectory(prefix="raildyn-age-") as tmpdir:
             tmp = Path(tmpdir)
             rows, cycles = run_all(exe, tmp, dict(os.environ, RAILDYN_CACHE_DIR=str(tmp / "cache")))

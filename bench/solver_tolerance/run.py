@@ -44,7 +44,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "bench"))
 sys.path.insert(0, str(REPO / "python"))
-from performance_section import bench_arguments, git_revision, write_section  # noqa: E402
+from performance_section import bench_arguments, earlier_json, measurement_start, write_section  # noqa: E402
 from raildyn.validation.runs import read_deck  # noqa: E402
 
 # the fidelity map's runner and error measures (one definition of "error against a reference")
@@ -192,12 +192,9 @@ def main():
     ap.add_argument("--no-cycle", dest="cycle", action="store_false",
                     help="without the friction-0.6 runs (bench/manchester_friction/friction_06.nml to 10.5 s)")
     args = ap.parse_args()
-    if args.from_json:
-        data = json.loads(Path(args.from_json).read_text())
-    else:
-        exe = Path(args.build).resolve() / "bin" / "raildyn"
-        rev = git_revision()
-        start = datetime.datetime.now(datetime.timezone.utc)
+    data = earlier_json(args)
+    if data is None:
+        exe, rev, start = measurement_start(args)
         rows, cycles = [], []
         with tempfile.TemporaryDirectory(prefix="raildyn-tol-") as tmpdir:
             tmp = Path(tmpdir)
