@@ -725,16 +725,23 @@ contains
     !> state is no better a start than the extrapolation.
     subroutine extrapolate_start()
       real(wp) :: f
+      integer(int64) :: digest
       integer :: k, e
       if (self%qs_history_count < 1 .or. t == self%qs_history_t(1)) return
-      do e = 2, self%qs_history_count
-        if (t /= self%qs_history_t(e) .or. state_digest(y) /= self%qs_history_state(e)) cycle
-        do k = 1, size(self%bodies)
-          if (qs(k)) self%bodies(k)%q0([DOF_Z, DOF_ROLL]) = self%qs_history(:, k, e)
+      ! the state's digest only where an older entry has this time (Fortran's .or. need not
+      ! short-circuit: a digest per entry and call was hashing y up to 47 times)
+      if (any(self%qs_history_t(2:self%qs_history_count) == t)) then
+        digest = state_digest(y)
+        do e = 2, self%qs_history_count
+          if (self%qs_history_t(e) /= t) cycle
+          if (self%qs_history_state(e) /= digest) cycle
+          do k = 1, size(self%bodies)
+            if (qs(k)) self%bodies(k)%q0([DOF_Z, DOF_ROLL]) = self%qs_history(:, k, e)
+          end do
+          call update_quasi_static_kinematics(self, t, y)
+          return
         end do
-        call update_quasi_static_kinematics(self, t, y)
-        return
-      end do
+      end if
       f = 0
       if (self%qs_history_count >= 2) then
         f = (t - self%qs_history_t(1)) / (self%qs_history_t(1) - self%qs_history_t(2))
