@@ -575,6 +575,13 @@ contains
         ! of the balance, det J ~ 0, met at the tread / flange-root transition)
         converged(i) = all(abs(dp(:, i)) <= tolerance) .or. (iteration > 8 .and. (all(abs(dp(:, i)) < jump_scale) &
                        .or. merit(i) < stuck_residual))
+        ! a converged body stays where its residual was evaluated while the others iterate:
+        ! its loads are then those of the point kept (the wheelset contact's result cache
+        ! returns them without evaluating the pipeline again), and it is not counted slow
+        if (converged(i)) then
+          dp(:, i) = 0
+          slow_steps(i) = 0
+        end if
       end do
       ! converged: q0 stays where the residual was evaluated (the update left, at most the
       ! tolerance, is below what the forces resolve), so its loads can be used as they are
@@ -617,7 +624,7 @@ contains
         end do
       end do
       call secant_update()
-      where (merit_new > slow_contraction * merit)
+      where (merit_new > slow_contraction * merit .and. .not. converged)
         slow_steps = slow_steps + 1
       elsewhere
         slow_steps = 0
