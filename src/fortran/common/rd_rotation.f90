@@ -16,7 +16,10 @@ contains
     real(wp) :: r(3, 3)
     real(wp) :: c, s
     c = cos(a); s = sin(a)
-    r = reshape([1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, c, s, 0.0_wp, -s, c], [3, 3])
+    ! column by column: a reshape of an array constructor is a library call (gfortran -O2)
+    r(:, 1) = [1.0_wp, 0.0_wp, 0.0_wp]
+    r(:, 2) = [0.0_wp, c, s]
+    r(:, 3) = [0.0_wp, -s, c]
   end function rot_x
 
   !> Rotation by angle a about the local y axis.
@@ -25,7 +28,9 @@ contains
     real(wp) :: r(3, 3)
     real(wp) :: c, s
     c = cos(a); s = sin(a)
-    r = reshape([c, 0.0_wp, -s, 0.0_wp, 1.0_wp, 0.0_wp, s, 0.0_wp, c], [3, 3])
+    r(:, 1) = [c, 0.0_wp, -s]
+    r(:, 2) = [0.0_wp, 1.0_wp, 0.0_wp]
+    r(:, 3) = [s, 0.0_wp, c]
   end function rot_y
 
   !> Rotation by angle a about the local z axis.
@@ -34,14 +39,18 @@ contains
     real(wp) :: r(3, 3)
     real(wp) :: c, s
     c = cos(a); s = sin(a)
-    r = reshape([c, s, 0.0_wp, -s, c, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], [3, 3])
+    r(:, 1) = [c, s, 0.0_wp]
+    r(:, 2) = [-s, c, 0.0_wp]
+    r(:, 3) = [0.0_wp, 0.0_wp, 1.0_wp]
   end function rot_z
 
   !> Skew-symmetric matrix with skew(a) b = a x b.
   pure function skew(a) result(s)
     real(wp), intent(in) :: a(3)
     real(wp) :: s(3, 3)
-    s = reshape([0.0_wp, a(3), -a(2), -a(3), 0.0_wp, a(1), a(2), -a(1), 0.0_wp], [3, 3])
+    s(:, 1) = [0.0_wp, a(3), -a(2)]
+    s(:, 2) = [-a(3), 0.0_wp, a(1)]
+    s(:, 3) = [a(2), -a(1), 0.0_wp]
   end function skew
 
   !> Axial vector of the skew-symmetric part of m (inverse of skew).

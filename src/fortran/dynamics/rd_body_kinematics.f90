@@ -49,8 +49,14 @@ contains
   !> B = Rz(psi) Rx(phi) Ry(theta) (thesis 4.3.2, A.31), angles = (psi, phi, theta).
   pure function body_rotation(angles) result(b)
     real(wp), intent(in) :: angles(3)
-    real(wp) :: b(3, 3)
-    b = matmul(rot_z(angles(1)), matmul(rot_x(angles(2)), rot_y(angles(3))))
+    real(wp) :: b(3, 3), rz(3, 3), rx(3, 3), ry(3, 3), rxy(3, 3)
+    ! factors in local arrays: gfortran then multiplies inline (a matmul of function results
+    ! is a library call with two allocated temporaries)
+    rz = rot_z(angles(1))
+    rx = rot_x(angles(2))
+    ry = rot_y(angles(3))
+    rxy = matmul(rx, ry)
+    b = matmul(rz, rxy)
   end function body_rotation
 
   !> Z-X-Y angles (psi, phi, theta) of a rotation R = Rz(psi) Rx(phi) Ry(theta): R32 = sin(phi),
@@ -103,7 +109,7 @@ contains
     real(wp), intent(in) :: q(6), omega_frame(3)
     real(wp) :: c(6)
     c(1:3) = cross(omega_frame, q(1:3))
-    c(4:6) = inverse_angle_rate(q(5), q(6), matmul(transpose(body_rotation(q(4:6))), omega_frame))
+    c(4:6) = inverse_angle_rate(q(5), q(6), matmul(omega_frame, body_rotation(q(4:6))))
   end function frame_rate_shift
 
   !> Fill the kinematics of a body with coordinates q, rates qdot relative to the track
@@ -113,7 +119,7 @@ contains
     type(track_point_t), intent(in) :: tp
     real(wp), intent(in) :: v_frame, a_frame, q(6), qdot(6)
     logical, intent(in) :: is_wheelset
-    real(wp) :: h(3, 3), w_rel_track(3), bzx(3, 3)
+    real(wp) :: h(3, 3), w_rel_track(3), bzx(3, 3), rz(3, 3), rx(3, 3), ry(3, 3)
     kin%q = q
     kin%qdot = qdot
     kin%sigma = tp%sigma
@@ -123,8 +129,11 @@ contains
     kin%is_wheelset = is_wheelset
     kin%omega_frame = v_frame * tp%omega
     kin%alpha_frame = a_frame * tp%omega + v_frame**2 * tp%domega
-    bzx = matmul(rot_z(q(4)), rot_x(q(5)))
-    kin%b = matmul(bzx, rot_y(q(6)))
+    rz = rot_z(q(4))
+    rx = rot_x(q(5))
+    ry = rot_y(q(6))
+    bzx = matmul(rz, rx)
+    kin%b = matmul(bzx, ry)
     kin%rot = matmul(tp%a, kin%b)
     ! eq. 4.33: r_G = p + A w
     kin%r = tp%r + matmul(tp%a, q(1:3))
@@ -133,7 +142,7 @@ contains
     kin%v = v_frame * tp%dr + matmul(tp%a, w_rel_track)
     ! eq. 4.38: omega_body = B^T Omega + H dangles/dt
     h = angle_rate_matrix(q(5), q(6))
-    kin%omega_body = matmul(transpose(kin%b), kin%omega_frame) + matmul(h, qdot(4:6))
+    kin%omega_body = matmul(kin%omega_frame, kin%b) + matmul(h, qdot(4:6))
     kin%omega = matmul(kin%rot, kin%omega_body)
     if (is_wheelset) then
       kin%rot_attach = matmul(tp%a, bzx)

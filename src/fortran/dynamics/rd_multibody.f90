@@ -1017,10 +1017,10 @@ contains
       om = kin%omega_frame
       al = kin%alpha_frame
       ! origin acceleration p'' = V^2 d2p/dsigma2 + dV/dt dp/dsigma, in track components
-      a0 = matmul(transpose(a), kin%speed**2 * kin%track%d2r + kin%accel * kin%track%dr)
+      a0 = matmul(kin%speed**2 * kin%track%d2r + kin%accel * kin%track%dr, a)
       w = kin%q(1:3)
       wd = kin%qdot(1:3)
-      f = matmul(transpose(a), ld%force)
+      f = matmul(ld%force, a)
       ! eq. 4.61: relative acceleration in track components (frozen translations: 0)
       wdd = f / b%mass - a0 - 2 * cross(om, wd) - cross(al, w) - cross(om, cross(om, w))
       do j = 1, 3
@@ -1034,15 +1034,15 @@ contains
       jm = b%inertia
       omb = kin%omega_body
       omrel = matmul(h, angd)
-      btom = matmul(transpose(kin%b), om)
-      mb = matmul(transpose(kin%rot), ld%moment)
-      mab = matmul(transpose(kin%rot), ld%moment_attach)
+      btom = matmul(om, kin%b)
+      mb = matmul(ld%moment, kin%rot)
+      mab = matmul(ld%moment_attach, kin%rot)
       g = mb - cross(omb, matmul(jm, omb)) &
-          - matmul(jm, matmul(transpose(kin%b), al) - cross(omrel, btom) + matmul(hd, angd))
-      g = matmul(transpose(h), g)
+          - matmul(jm, matmul(al, kin%b) - cross(omrel, btom) + matmul(hd, angd))
+      g = matmul(g, h)
       hatt = h
       if (b%is_wheelset) hatt(:, 3) = 0   ! axle-box loads do no work on the spin
-      g = g + matmul(transpose(hatt), mab)
+      g = g + matmul(mab, hatt)
       mgen = matmul(transpose(h), matmul(jm, h))
       free_ang = .not. held(4:6)
       ! prescribed accelerations of frozen angles: 0; a wheelset's frozen spin rolls: dV/dt / r0
@@ -1055,7 +1055,7 @@ contains
       cdot(1:3) = cross(al, w) + cross(om, wd)
       ca = inverse_angle_rate(kin%q(5), kin%q(6), btom)
       cdot(4:6) = inverse_angle_rate(kin%q(5), kin%q(6), &
-                  -cross(omrel, btom) + matmul(transpose(kin%b), al) - matmul(hd, ca))
+                  -cross(omrel, btom) + matmul(al, kin%b) - matmul(hd, ca))
       do j = 1, 6
         k = self%free_index(j, i)
         if (k == 0) cycle

@@ -76,9 +76,9 @@ contains
     m%position_fixed = kin%track%r + matmul(kin%track%a, wp_pos)
     m%velocity_track = v_track
     m%acceleration_track = a_track
-    m%velocity_body = matmul(transpose(b), v_track)
-    m%acceleration_body = matmul(transpose(b), a_track)
+    m%velocity_body = matmul(v_track, b)
+    m%acceleration_body = matmul(a_track, b)
     ! gravity g = (0, 0, -g) in the fixed frame: an accelerometer reads a - g
-    m%specific_force_body = matmul(transpose(b), a_track - matmul(at, [0.0_wp, 0.0_wp, -gravity]))
+    m%specific_force_body = matmul(a_track - matmul(at, [0.0_wp, 0.0_wp, -gravity]), b)
   end function compute_point_motion
 end module rd_point_motion

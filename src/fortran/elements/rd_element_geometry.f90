@@ -34,8 +34,8 @@ contains
     pp%p1 = k1%point_position(u1)
     pp%p2 = k2%point_position(u2)
     pp%axes = matmul(k1%rot_attach, axes)
-    pp%d = matmul(transpose(pp%axes), pp%p2 - pp%p1)
+    pp%d = matmul(pp%p2 - pp%p1, pp%axes)
     dv = k2%point_velocity(u2) - k1%point_velocity(u1) - cross(k1%omega_attach, pp%p2 - pp%p1)
-    pp%ddot = matmul(transpose(pp%axes), dv)
+    pp%ddot = matmul(dv, pp%axes)
   end function point_pair
 end module rd_element_geometry

@@ -55,7 +55,7 @@ contains
     e1 = matmul(k1%rot_attach, self%axes1)
     e2 = matmul(k2%rot_attach, self%axes2)
     res%deflection = rotation_vector(matmul(transpose(e1), e2))
-    rate = matmul(transpose(e1), k2%omega_attach - k1%omega_attach)
+    rate = matmul(k2%omega_attach - k1%omega_attach, e1)
     res%force_local = self%preload - self%stiffness * res%deflection - self%damping * rate
     res%moment = matmul(e1, res%force_local)
     res%force = 0

@@ -62,7 +62,7 @@ contains
       ! wheel normal at pw: outward n = (e_rho - k e_y)/sqrt(1 + k^2); contact normal = -n
       er = [pw(1), 0.0_wp, pw(3)] / hypot(pw(1), pw(3))
       nloc = -(er - [0.0_wp, k, 0.0_wp]) / sqrt(1 + k**2)
-      n = matmul(transpose(bt), nloc)
+      n = matmul(nloc, bt)
       p%kind = PATCH_TREAD
       p%penetration = res%max_penetration
       p%point_rail = [t0 + tau, knife%e0, 0.0_wp]
