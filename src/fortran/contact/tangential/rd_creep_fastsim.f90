@@ -85,10 +85,10 @@ contains
     ! scratch stays fixed-size on the stack (no allocation); the last block may be partial.
     integer, parameter :: lanes = 16
     real(wp) :: c11, c22, c23, c33, a, b, g, l1, l2, l3, p_scale, dy, inv_a2, rate_eta, rate_spin
-    real(wp) :: half, step, x, rel, bound, t2, scale, fx, fy, mz, w, u
+    real(wp) :: half, step, x, rel, bound, t, scale, fx, fy, mz, w, u, blend, band_divisor
     real(wp), dimension(lanes) :: y, rel_y, aj, dx, rate_x, px, py, sx, sy, sm
     integer :: i, j, lane, first, nl
-    logical :: elliptic
+    logical :: elliptic, smooth
     if (.not. patch_is_loaded(patch)) return
     a = patch%a
     b = patch%b
@@ -99,6 +99,8 @@ contains
     l3 = pi * a * sqrt(a / b) / (4.0_wp * g * c23)
     elliptic = self%bound == BOUND_ELLIPTIC
     w = self%saturation_width
+    smooth = w > 0.0_wp
+    band_divisor = merge(4.0_wp * w, 1.0_wp, smooth)   ! (1 where w = 0: the blend is unused)
     if (elliptic) then
       p_scale = patch%friction * 1.5_wp * patch%normal_force / (pi * a * b)
     else
@@ -129,19 +131,18 @@ contains
           px(lane) = px(lane) - rate_x(lane) * step
           py(lane) = py(lane) - (rate_eta + rate_spin * (x + 0.5_wp * step)) * step
           rel = max(0.0_wp, rel_y(lane) - x * x * inv_a2)
-          if (elliptic) then
-            bound = p_scale * sqrt(rel)
-          else
-            bound = p_scale * rel
-          end if
+          bound = p_scale * merge(sqrt(rel), rel, elliptic)
           ! slip where |p| exceeds the bound: back onto it, direction kept (eqs. 3.52-3.53);
-          ! written branch-free (scale = 1 in adhesion)
-          t2 = px(lane)**2 + py(lane)**2
-          scale = min(1.0_wp, bound / sqrt(max(t2, tiny(1.0_wp))))
-          if (w > 0.0_wp .and. bound > 0.0_wp) then
-            u = sqrt(t2) / bound
-            if (u > 1.0_wp - w .and. u < 1.0_wp + w) scale = (u - (u - 1.0_wp + w)**2 / (4.0_wp * w)) / u
-          end if
+          ! written branch-free, so that the loop across strips vectorizes (scale = 1 in
+          ! adhesion). t is floored at sqrt(tiny): where p = 0, u ~ 1e-154 / bound is below
+          ! the band, as |p| / bound.
+          t = sqrt(max(px(lane)**2 + py(lane)**2, tiny(1.0_wp)))
+          scale = min(1.0_wp, bound / t)
+          ! smooth clip: u = |p| / bound where it can be in the band (u < 1 + w <= 1.5),
+          ! else at most 2 (no overflow where bound ~ 0); the blend is used in the band only
+          u = t / max(bound, 0.5_wp * t)
+          blend = (u - (u - 1.0_wp + w)**2 / band_divisor) / u
+          scale = merge(blend, scale, smooth .and. bound > 0.0_wp .and. u > 1.0_wp - w .and. u < 1.0_wp + w)
           px(lane) = px(lane) * scale
           py(lane) = py(lane) * scale
           sx(lane) = sx(lane) + px(lane)
