@@ -94,14 +94,16 @@ module rd_multibody
     real(wp), allocatable :: qs_jacobian(:, :, :)
     logical, allocatable :: qs_jacobian_valid(:)
     !> the last qs_history_size solutions of the quasi-static coordinates at distinct
-    !> times, newest first ((z, roll), body, entry), their times and a digest of the state
-    !> they solved: a solve at a new time starts from the extrapolation of the newest two, a
-    !> solve of the state of an older entry (same time, same digest) from that entry
-    !> (solve_quasi_static)
+    !> times ((z, roll), body, slot), their times and a digest of the state they solved: a
+    !> solve at a new time starts from the extrapolation of the newest two, a solve of the
+    !> state of an older entry (same time, same digest) from that entry (solve_quasi_static).
+    !> A ring: the newest entry is in slot qs_history_newest, the e-th newest in
+    !> history_slot(e) (a new time overwrites the oldest slot instead of shifting them all)
     real(wp), allocatable :: qs_history(:, :, :)
     real(wp) :: qs_history_t(qs_history_size) = 0
     integer(int64) :: qs_history_state(qs_history_size) = 0
     integer :: qs_history_count = 0
+    integer :: qs_history_newest = 1
     logical :: has_quasi_static = .false.
     !> hold the quasi-static coordinates where they are instead of solving them (the static
     !> preload balance: the vehicle's preloads at its initial configuration, wheelsets held)
@@ -188,6 +190,7 @@ contains
     allocate (self%qs_history(2, size(bodies), qs_history_size))
     self%qs_history = 0
     self%qs_history_count = 0
+    self%qs_history_newest = 1
     allocate (self%elements(0), self%providers(0), self%el_state_start(0), self%scratch%el_res(0))
     allocate (self%scratch%frames(size(frame_offsets)), self%scratch%kin(size(bodies)), self%scratch%loads(size(bodies)))
     call self%override%build(size(bodies))
@@ -734,30 +737,37 @@ contains
       real(wp) :: f
       integer(int64) :: digest
       integer :: k, e
-      if (self%qs_history_count < 1 .or. t == self%qs_history_t(1)) return
+      integer :: newest, second, slot
+      if (self%qs_history_count < 1) return
+      newest = history_slot(1)
+      if (t == self%qs_history_t(newest)) return
       ! the state's digest only where an older entry has this time (Fortran's .or. need not
-      ! short-circuit: a digest per entry and call was hashing y up to 47 times)
-      if (any(self%qs_history_t(2:self%qs_history_count) == t)) then
+      ! short-circuit: a digest per entry and call was hashing y up to 47 times); the slots
+      ! of the entries 2 .. count are all but the newest one's
+      if (count(self%qs_history_t(:self%qs_history_count) == t) > 0) then
         digest = state_digest(y)
         do e = 2, self%qs_history_count
-          if (self%qs_history_t(e) /= t) cycle
-          if (self%qs_history_state(e) /= digest) cycle
+          slot = history_slot(e)
+          if (self%qs_history_t(slot) /= t) cycle
+          if (self%qs_history_state(slot) /= digest) cycle
           do k = 1, size(self%bodies)
-            if (qs(k)) self%bodies(k)%q0([DOF_Z, DOF_ROLL]) = self%qs_history(:, k, e)
+            if (qs(k)) self%bodies(k)%q0([DOF_Z, DOF_ROLL]) = self%qs_history(:, k, slot)
           end do
           call update_quasi_static_kinematics(self, t, y)
           return
         end do
       end if
       f = 0
+      second = newest
       if (self%qs_history_count >= 2) then
-        f = (t - self%qs_history_t(1)) / (self%qs_history_t(1) - self%qs_history_t(2))
+        second = history_slot(2)
+        f = (t - self%qs_history_t(newest)) / (self%qs_history_t(newest) - self%qs_history_t(second))
         if (abs(f) > max_extrapolation) f = 0
       end if
       do k = 1, size(self%bodies)
         if (.not. qs(k)) cycle
-        self%bodies(k)%q0([DOF_Z, DOF_ROLL]) = self%qs_history(:, k, 1) &
-                                               + f * (self%qs_history(:, k, 1) - self%qs_history(:, k, 2))
+        self%bodies(k)%q0([DOF_Z, DOF_ROLL]) = self%qs_history(:, k, newest) &
+                                               + f * (self%qs_history(:, k, newest) - self%qs_history(:, k, second))
       end do
       call update_quasi_static_kinematics(self, t, y)
     end subroutine extrapolate_start
@@ -765,16 +775,25 @@ contains
     !> Keep the solution at t as the newest of the history (replacing one at the same t,
     !> the oldest dropped).
     subroutine remember_solution()
-      if (self%qs_history_count == 0 .or. t /= self%qs_history_t(1)) then
-        self%qs_history(:, :, 2:) = self%qs_history(:, :, :qs_history_size - 1)
-        self%qs_history_t(2:) = self%qs_history_t(:qs_history_size - 1)
-        self%qs_history_state(2:) = self%qs_history_state(:qs_history_size - 1)
+      integer :: newest
+      newest = self%qs_history_newest
+      if (self%qs_history_count == 0) then
+        self%qs_history_count = 1
+      else if (t /= self%qs_history_t(newest)) then
+        newest = mod(newest, qs_history_size) + 1     ! the oldest slot once the ring is full
+        self%qs_history_newest = newest
         self%qs_history_count = min(qs_history_size, self%qs_history_count + 1)
       end if
-      self%qs_history_t(1) = t
-      self%qs_history_state(1) = state_digest(y)
-      self%qs_history(:, :, 1) = quasi_static_coordinates()
+      self%qs_history_t(newest) = t
+      self%qs_history_state(newest) = state_digest(y)
+      self%qs_history(:, :, newest) = quasi_static_coordinates()
     end subroutine remember_solution
+
+    !> The ring slot of the e-th newest entry of the history (e = 1: the newest).
+    pure integer function history_slot(e)
+      integer, intent(in) :: e
+      history_slot = modulo(self%qs_history_newest - e, qs_history_size) + 1
+    end function history_slot
 
     !> Broyden's update of each body's chord Jacobian with the step s just taken and the
     !> change y of its residual (Broyden's "good" update: C. G. Broyden, A class of methods
