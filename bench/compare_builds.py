@@ -5,11 +5,17 @@ both builds alternately (best of the rounds per row) and, with --scenes, whole s
 both runners alternately (CPU seconds of the run: user + system, less exposed to the other
 jobs than the wall time; best of the rounds). Checks that the scene outputs of the two
 builds are identical (or prints the largest difference), prints a table and writes it into
-the section `compare_builds` of docs/performance.md.
+the section `compare_builds` of docs/performance.md (or --section).
 
     python3 bench/compare_builds.py BEFORE_BUILD AFTER_BUILD [--rounds 2]
-        [--scenes manchester_v1_tc1.nml tgv_profile_fastsim.nml] [--replay POSES.txt]
-        [--label TEXT] [--no-write]
+        [--scenes manchester_v1_tc1.nml tgv_profile_fastsim.nml] [--scenes-only]
+        [--before-env NAME=VALUE ...] [--after-env NAME=VALUE ...] [--replay POSES.txt]
+        [--label TEXT] [--section NAME --title TEXT] [--no-write]
+
+--before-env / --after-env set environment variables for one build's runs, e.g. the same
+build against two BLAS libraries (LD_LIBRARY_PATH=/usr/lib/x86_64-linux-gnu/blas:...).
+Scenes run with $RAILDYN_CACHE_DIR in a temporary directory, after one untimed run per build
+(contact tables are then cached, as in a campaign). --scenes-only skips the geometry benchmark.
 
 A build is a build directory (bench/bench_contact_geometry and bin/raildyn inside; build the
 bench with `cmake --build DIR --target bench_contact_geometry raildyn_exe`). --replay also
@@ -17,6 +23,7 @@ times bench/bench_geometry_replay of both builds on the wheelset poses of POSES.
 (bench/geometry_replay/poses.py) and compares their results bitwise.
 """
 import argparse
+import os
 import resource
 import subprocess
 import sys
@@ -52,11 +59,11 @@ def replay_us(exe, poses, dump, passes=3):
     sys.exit(f"{exe}: no result row")
 
 
-def scene_cpu(exe, deck, out):
-    """CPU seconds (user + system) of one run of the runner exe on deck."""
+def scene_cpu(exe, deck, out, env=None):
+    """CPU seconds (user + system) of one run of the runner exe on deck (environment env)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     res = subprocess.run([str(exe), "run", str(deck), "-o", str(out), "--quiet"],
-                         capture_output=True, text=True)
+                         capture_output=True, text=True, env=env)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if res.returncode != 0:
         sys.exit(f"{exe} failed on {deck}: {res.stderr.strip()[:200]}")
@@ -94,26 +101,37 @@ def main():
     ap.add_argument("--scenes", nargs="*", default=[])
     ap.add_argument("--replay", default="")
     ap.add_argument("--label", default="")
+    ap.add_argument("--section", default="compare_builds")
+    ap.add_argument("--title", default="Before/after comparison of two builds (bench/compare_builds.py)")
+    ap.add_argument("--scenes-only", action="store_true")
+    ap.add_argument("--before-env", nargs="*", default=[])
+    ap.add_argument("--after-env", nargs="*", default=[])
     ap.add_argument("--no-write", action="store_true")
     args = ap.parse_args()
     builds = [Path(args.before).resolve(), Path(args.after).resolve()]
+    extra = [dict(e.split("=", 1) for e in args.before_env), dict(e.split("=", 1) for e in args.after_env)]
 
-    best = [{}, {}]
-    for _ in range(args.rounds):
-        for k, b in enumerate(builds):
-            for key, t in bench_rows(b / "bench" / "bench_contact_geometry").items():
-                best[k][key] = min(t, best[k].get(key, np.inf))
-    lines = ["### Before/after comparison of two builds (bench/compare_builds.py)", ""]
+    lines = [f"### {args.title}", ""]
     if args.label:
         lines += [args.label, ""]
-    lines += [f"Best of {args.rounds} alternating runs of each build, measured in one session; "
-              "speed-up = before / after.", "",
-              "| model | spacing [mm] | pose | before us/call | after us/call | speed-up |",
-              "|---|---:|---|---:|---:|---:|"]
-    for key in best[0]:
-        if key in best[1]:
-            t0, t1 = best[0][key], best[1][key]
-            lines.append(f"| {key[0]} | {key[1]} | {key[2]} | {t0:.2f} | {t1:.2f} | {t0 / t1:.2f} |")
+    for k, name in enumerate(("before", "after")):
+        if extra[k]:
+            lines += [f"Environment of the {name} runs: "
+                      + ", ".join(f"`{n}={v}`" for n, v in extra[k].items()) + ".", ""]
+    if not args.scenes_only:
+        best = [{}, {}]
+        for _ in range(args.rounds):
+            for k, b in enumerate(builds):
+                for key, t in bench_rows(b / "bench" / "bench_contact_geometry").items():
+                    best[k][key] = min(t, best[k].get(key, np.inf))
+        lines += [f"Best of {args.rounds} alternating runs of each build, measured in one session; "
+                  "speed-up = before / after.", "",
+                  "| model | spacing [mm] | pose | before us/call | after us/call | speed-up |",
+                  "|---|---:|---|---:|---:|---:|"]
+        for key in best[0]:
+            if key in best[1]:
+                t0, t1 = best[0][key], best[1][key]
+                lines.append(f"| {key[0]} | {key[1]} | {key[2]} | {t0:.2f} | {t1:.2f} | {t0 / t1:.2f} |")
 
     if args.replay:
         lines += ["", "Online strip geometry at the wheelset poses of a run of the acceptance deck "
@@ -133,21 +151,30 @@ def main():
             lines.append(f"| {nwheel // 2} | {nwheel} | {us[0]:.2f} | {us[1]:.2f} | {us[0] / us[1]:.2f} | {verdict} |")
 
     if args.scenes:
-        lines += ["", "Whole scenes: CPU seconds (user + system) of the run, best of the rounds; "
-                  "outputs compared dataset by dataset.", "",
-                  "| scene | before CPU s | after CPU s | speed-up | outputs |", "|---|---:|---:|---:|---|"]
+        lines += ["", f"Whole scenes: CPU seconds (user + system) of the run, best and median of "
+                  f"{args.rounds} alternating rounds; outputs compared dataset by dataset.", "",
+                  "| scene | before CPU s best / median | after CPU s best / median | speed-up (best) "
+                  "| outputs |", "|---|---:|---:|---:|---|"]
         with tempfile.TemporaryDirectory() as d:
             tmp = Path(d)
+            env = []
+            for k in range(2):
+                env.append(dict(os.environ, RAILDYN_CACHE_DIR=str(tmp / "cache"), **extra[k]))
             for scene in args.scenes:
-                cpu = [np.inf, np.inf]
+                cpu = [[], []]
+                for k, b in enumerate(builds):     # untimed: builds a contact table once
+                    scene_cpu(b / "bin" / "raildyn", REPO / "inputs" / scene, tmp / f"{k}.h5", env[k])
                 for _ in range(args.rounds):
                     for k, b in enumerate(builds):
-                        cpu[k] = min(cpu[k], scene_cpu(b / "bin" / "raildyn", REPO / "inputs" / scene,
-                                                       tmp / f"{k}.h5"))
+                        cpu[k].append(scene_cpu(b / "bin" / "raildyn", REPO / "inputs" / scene,
+                                                tmp / f"{k}.h5", env[k]))
                 n, ndiff, worst, name = h5_difference(tmp / "0.h5", tmp / "1.h5")
                 same = (f"identical ({n} datasets)" if ndiff == 0 else
                         f"{ndiff} of {n} datasets differ, largest {worst:.1e} of range ({name})")
-                lines.append(f"| {scene} | {cpu[0]:.1f} | {cpu[1]:.1f} | {cpu[0] / cpu[1]:.2f} | {same} |")
+                best = [min(c) for c in cpu]
+                med = [float(np.median(c)) for c in cpu]
+                lines.append(f"| {scene} | {best[0]:.2f} / {med[0]:.2f} | {best[1]:.2f} / {med[1]:.2f} "
+                             f"| {best[0] / best[1]:.2f} | {same} |")
 
     load = Path("/proc/loadavg").read_text().split()[:3]
     lines += ["", f"Host: load average {' '.join(load)} at the end of the run (shared machine)."]
@@ -156,7 +183,7 @@ def main():
     if not args.no_write:
         sys.path.insert(0, str(REPO / "bench"))
         from performance_section import write_section
-        write_section("compare_builds", text)
+        write_section(args.section, text)
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ unnoticed once when raildyn.validation renamed a helper). Nothing is timed.
   change of one force entry is 1 kN and 100 kN / S % of its family's scale), and cycle.py's
   `report` on the same results file.
 - bench/jacobian_age/run.py: `measure_deck` on a short knife-edge run at two ages, and `render`.
+- bench/compare_builds.py --scenes-only: a build against itself on a short deck.
 - bench/solver_tolerance/run.py: its `measure` on the tables deck shortened to 0.3 s, at the
   deck's tolerances against the tight run: the sampled maxima equal those read from the file
   by raildyn.Results, the tight run compared with itself differs by 0 and the deck's run does
@@ -185,3 +186,18 @@ def test_jacobian_age_measures_and_renders(build_dir, tmp_path):
     assert np.isfinite(old["err_y"]) and np.isfinite(old["err_force"])
     text = bench.render(dict(rows=rows, cycles=[dict(age=51, cycle="skipped")], when="in a test"))
     assert "| tgv knife-edge curve | 51 |" in text and "| tgv knife-edge curve | 1000 |" in text
+
+
+def test_compare_builds_scenes_only(build_dir):
+    """bench/compare_builds.py --scenes-only: the same build on both sides, one round of a
+    short deck, an environment variable for the after runs; the outputs must be reported
+    identical (a build compared with itself) and nothing written (--no-write)."""
+    import subprocess
+    res = subprocess.run([sys.executable, str(REPO / "bench" / "compare_builds.py"), str(build_dir),
+                          str(build_dir), "--scenes", "tgv_wheelset.nml", "--scenes-only", "--rounds", "1",
+                          "--after-env", "RAILDYN_BENCH_PROBE=1", "--no-write"],
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    row = [line for line in res.stdout.splitlines() if line.startswith("| tgv_wheelset.nml")]
+    assert len(row) == 1 and "identical" in row[0], res.stdout
+    assert "`RAILDYN_BENCH_PROBE=1`" in res.stdout

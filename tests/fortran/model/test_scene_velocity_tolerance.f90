@@ -8,9 +8,15 @@
 !>      times atol takes fewer steps and differs from it;
 !>  (c) accuracy against an independent reference: the run with atol_velocity = w_c atol,
 !>      w_c = 100 1/s (above the vehicle's body and bogie modes, 1-15 Hz), stays within
-!>      tolerance of a run at rtol 1e-10, atol 1e-12: its largest error, in units of the
-!>      local tolerance rtol |y| + atol of the position slots and rtol |y| + atol_velocity of
-!>      the rate slots, is no larger than twice the uniform-atol run's in its own units.
+!>      tolerance of a run at rtol 1e-10, atol 1e-12: its global error at 0.3 s, in units of
+!>      the local tolerance rtol |y| + atol of the position slots and rtol |y| + atol_velocity
+!>      of the rate slots, is no larger than 5 times the uniform-atol run's in its own units.
+!>      Measured in CVODE's own norm, the weighted RMS over the components: the largest
+!>      component alone moved by 10x under rounding changes alone (the same code with the
+!>      reference BLAS or OpenBLAS, matmul in gfortran's library or inline: ratios 0.43 to
+!>      4.0), the weighted RMS from 0.46 to 3.1 (2026-11-29). A velocity tolerance that
+!>      scaled the error with its 100x would give ~100; one applied to the position slots
+!>      fails (a).
 program test_scene_velocity_tolerance
   use rd_kinds, only: wp
   use rd_error, only: error_t
@@ -85,12 +91,12 @@ contains
     ! (c) errors in units of each run's own local tolerance
     allocate (tol_v(size(y_ref)), source=atol)
     tol_v(nfree + 1:2 * nfree) = 1.0e-6_wp
-    err_scalar = maxval(abs(y_scalar - y_ref) / (rtol * abs(y_ref) + atol))
-    err_loose = maxval(abs(y_loose - y_ref) / (rtol * abs(y_ref) + tol_v))
-    write (*, '(a, 2f9.3)') 'largest error / local tolerance vs rtol 1e-10: scalar atol, atol_velocity = 100 atol: ', &
+    err_scalar = norm2((y_scalar - y_ref) / (rtol * abs(y_ref) + atol)) / sqrt(real(size(y_ref), wp))
+    err_loose = norm2((y_loose - y_ref) / (rtol * abs(y_ref) + tol_v)) / sqrt(real(size(y_ref), wp))
+    write (*, '(a, 2f9.3)') 'weighted RMS error / local tolerance vs rtol 1e-10: scalar atol, atol_velocity = 100 atol: ', &
       err_scalar, err_loose
-    call check(err_loose <= 2.0_wp * err_scalar, &
-               'atol_velocity = 100 atol: within 2x the scalar run''s error, each in its own tolerance units')
+    call check(err_loose <= 5.0_wp * err_scalar, &
+               'atol_velocity = 100 atol: within 5x the scalar run''s error, each in its own tolerance units (WRMS)')
   end subroutine test_runs
 
   subroutine run_to(tolerances, y, stats, nfree)
