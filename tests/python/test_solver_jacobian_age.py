@@ -5,9 +5,11 @@ curve (inputs/tgv_vehicle_curve.nml, knife-edge contact), 1 s, with the default 
 Oracle: CVODE's rule. The Jacobian's age is checked where CVODE sets the linear solver up,
 which it does at least every 20 steps (its msbp); a setup at least N steps after the last
 evaluation evaluates it again. So a run of n steps with an age of N makes at least
-n / (N + 20) - 1 evaluations, and with an age of 1 every setup that follows a step evaluates it
-(setups repeated without a step between them, after a failed attempt, keep it: at least 90 %
-of the setups). A larger age than the default makes fewer evaluations, and the motion stays
+n / (N + 20) - 1 evaluations, and with an age of 1 every setup that follows a step evaluates it;
+a setup repeated without a step between, for the retry of a failed attempt (an error-test or
+a Newton failure, at most one setup each), keeps it: the setups are at most the evaluations
+plus the failures. (An empirical "90 % of the setups" held until the rounding changed: 156
+evaluations of 175 setups with 58 failures, 2026-11-29.) A larger age than the default makes fewer evaluations, and the motion stays
 within the solver's tolerance of the default's (an old Jacobian slows Newton's convergence,
 whose test is unchanged): the wheelsets' lateral shifts agree within 20 um (rtol 1e-6 and
 atol 1e-8 over 1 s)."""
@@ -50,7 +52,9 @@ def test_the_default_age_is_51(runs):
 
 def test_an_age_of_one_evaluates_at_every_setup(runs):
     s = runs[1][0]
-    assert s["n_jac"] >= 0.9 * s["n_linear_setups"], s
+    assert s["n_linear_setups"] <= s["n_jac"] + s["n_error_fail"] + s["n_newton_fail"], s
+    # and not the default age's count (a setup without an evaluation at every other step)
+    assert s["n_jac"] > s["n_linear_setups"] / 2, s
 
 
 def test_an_older_jacobian_makes_fewer_evaluations_and_the_same_motion(runs):
