@@ -105,6 +105,14 @@ module rd_multibody
     integer :: qs_history_count = 0
     integer :: qs_history_newest = 1
     logical :: has_quasi_static = .false.
+    !> Inside one quasi-static solve, after its first load evaluation: the force elements
+    !> that touch no quasi-static body (element_moves false) keep their result (el_res) and
+    !> their states' rates instead of being evaluated again. Exact: within a solve the time,
+    !> the state and every other body stay as they are, and only the quasi-static bodies' z
+    !> and roll move (solve_quasi_static).
+    logical :: reuse_fixed_elements = .false.
+    logical :: in_quasi_static_solve = .false.
+    logical, allocatable :: element_moves(:)
     !> hold the quasi-static coordinates where they are instead of solving them (the static
     !> preload balance: the vehicle's preloads at its initial configuration, wheelsets held)
     logical :: hold_quasi_static = .false.
@@ -445,7 +453,11 @@ contains
     end do
     loads_ready = .false.
     if (self%has_quasi_static .and. .not. self%hold_quasi_static) then
+      call start_fixed_elements(self)
+      self%in_quasi_static_solve = .true.
       call solve_quasi_static(self, t, y, ydot, loads_ready, error)
+      self%in_quasi_static_solve = .false.
+      self%reuse_fixed_elements = .false.
       if (allocated(error)) return
     end if
     if (.not. loads_ready) then
@@ -876,6 +888,26 @@ contains
     end do
   end function state_digest
 
+  !> Before a quasi-static solve: which force elements touch a quasi-static body (their
+  !> loads move with its z and roll); evaluated in full until the solve's first residual.
+  subroutine start_fixed_elements(self)
+    class(multibody_t), intent(inout) :: self
+    integer :: e, b1, b2
+    logical :: qs1
+    self%reuse_fixed_elements = .false.
+    if (.not. allocated(self%element_moves)) allocate (self%element_moves(size(self%elements)))
+    if (size(self%element_moves) /= size(self%elements)) then
+      deallocate (self%element_moves)
+      allocate (self%element_moves(size(self%elements)))
+    end if
+    do e = 1, size(self%elements)
+      b1 = self%elements(e)%e%body1; b2 = self%elements(e)%e%body2
+      qs1 = .false.
+      if (b1 > 0) qs1 = any(self%bodies(b1)%quasi_static)
+      self%element_moves(e) = qs1 .or. any(self%bodies(b2)%quasi_static)
+    end do
+  end subroutine start_fixed_elements
+
   !> z'' and roll'' (relative) of every quasi-static body at the current kinematics.
   subroutine quasi_static_residual(self, t, y, ydot, r, error)
     class(multibody_t), intent(inout) :: self
@@ -888,6 +920,9 @@ contains
     r = 0
     call accumulate_loads(self, t, y, ydot, error)
     if (allocated(error)) return
+    ! inside a solve (not a static balance, whose state changes between calls): the fixed
+    ! elements have now been evaluated at this solve's time and state
+    if (self%in_quasi_static_solve) self%reuse_fixed_elements = .true.
     do i = 1, size(self%bodies)
       if (.not. any(self%bodies(i)%quasi_static)) cycle
       call body_equations(self, i, ydot, quasi_static_free=.true.)
@@ -980,7 +1015,16 @@ contains
         b1 = el%body1; b2 = el%body2
         n = el%state_count()
         k = 2 * self%nfree + self%el_state_start(e)
-        if (b1 == 0) then
+        if (self%reuse_fixed_elements) then
+          if (.not. self%element_moves(e)) then
+            ! res and ydot(k:k + n - 1) hold this element's evaluation at this solve's state
+          else if (b1 == 0) then
+            kg = ground_kinematics(self%scratch%kin(b2))
+            call el%evaluate(t, kg, self%scratch%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
+          else
+            call el%evaluate(t, self%scratch%kin(b1), self%scratch%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
+          end if
+        else if (b1 == 0) then
           kg = ground_kinematics(self%scratch%kin(b2))
           call el%evaluate(t, kg, self%scratch%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
         else
