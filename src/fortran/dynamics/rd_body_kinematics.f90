@@ -12,7 +12,8 @@ module rd_body_kinematics
   implicit none
   private
   public :: body_kinematics_t, body_rotation, angle_rate_matrix, angle_rate_matrix_dot
-  public :: compute_body_kinematics, ground_kinematics, inverse_angle_rate, frame_rate_shift, fixed_angles
+  public :: compute_body_kinematics, ground_kinematics, inverse_angle_rate, frame_rate_shift, fixed_angles, &
+            rotation_factors
 
   !> Everything about one body's motion at one instant. Vectors in fixed-frame components
   !> unless the name says otherwise.
@@ -105,21 +106,44 @@ contains
   !> The shift c(q, Omega) between the relative rates and the generalized velocities the
   !> state holds, nu = qdot + c (docs/theory.md section 5): c = (Omega x w_bar,
   !> H^{-1} B^T Omega). nu is continuous where the frame's angular velocity jumps.
-  pure function frame_rate_shift(q, omega_frame) result(c)
+  !> `b`: B(q(4:6)) when the caller has it (rotation_factors), else computed here.
+  pure function frame_rate_shift(q, omega_frame, b) result(c)
     real(wp), intent(in) :: q(6), omega_frame(3)
+    real(wp), intent(in), optional :: b(3, 3)
     real(wp) :: c(6)
     c(1:3) = cross(omega_frame, q(1:3))
-    c(4:6) = inverse_angle_rate(q(5), q(6), matmul(omega_frame, body_rotation(q(4:6))))
+    if (present(b)) then
+      c(4:6) = inverse_angle_rate(q(5), q(6), matmul(omega_frame, b))
+    else
+      c(4:6) = inverse_angle_rate(q(5), q(6), matmul(omega_frame, body_rotation(q(4:6))))
+    end if
   end function frame_rate_shift
+
+  !> The factors of B = Rz(psi) Rx(phi) Ry(theta) that compute_body_kinematics uses, angles =
+  !> (psi, phi, theta): bzx = Rz Rx (a wheelset's intermediate frame) and B = bzx Ry, each
+  !> sine and cosine once (the right-hand side needs B twice per body: the rate shift and the
+  !> kinematics).
+  pure subroutine rotation_factors(angles, bzx, b)
+    real(wp), intent(in) :: angles(3)
+    real(wp), intent(out) :: bzx(3, 3), b(3, 3)
+    real(wp) :: rz(3, 3), rx(3, 3), ry(3, 3)
+    rz = rot_z(angles(1))
+    rx = rot_x(angles(2))
+    ry = rot_y(angles(3))
+    bzx = matmul(rz, rx)
+    b = matmul(bzx, ry)
+  end subroutine rotation_factors
 
   !> Fill the kinematics of a body with coordinates q, rates qdot relative to the track
   !> frame `tp` moving at speed v_frame (acceleration a_frame).
-  pure subroutine compute_body_kinematics(kin, tp, v_frame, a_frame, q, qdot, is_wheelset)
+  !> `bzx`, `b`: the rotation factors of q(4:6) (rotation_factors) when the caller has them.
+  pure subroutine compute_body_kinematics(kin, tp, v_frame, a_frame, q, qdot, is_wheelset, bzx_given, b_given)
     type(body_kinematics_t), intent(inout) :: kin
     type(track_point_t), intent(in) :: tp
     real(wp), intent(in) :: v_frame, a_frame, q(6), qdot(6)
     logical, intent(in) :: is_wheelset
-    real(wp) :: h(3, 3), w_rel_track(3), bzx(3, 3), rz(3, 3), rx(3, 3), ry(3, 3)
+    real(wp), intent(in), optional :: bzx_given(3, 3), b_given(3, 3)
+    real(wp) :: h(3, 3), w_rel_track(3), bzx(3, 3)
     kin%q = q
     kin%qdot = qdot
     kin%sigma = tp%sigma
@@ -129,11 +153,12 @@ contains
     kin%is_wheelset = is_wheelset
     kin%omega_frame = v_frame * tp%omega
     kin%alpha_frame = a_frame * tp%omega + v_frame**2 * tp%domega
-    rz = rot_z(q(4))
-    rx = rot_x(q(5))
-    ry = rot_y(q(6))
-    bzx = matmul(rz, rx)
-    kin%b = matmul(bzx, ry)
+    if (present(bzx_given) .and. present(b_given)) then
+      bzx = bzx_given
+      kin%b = b_given
+    else
+      call rotation_factors(q(4:6), bzx, kin%b)
+    end if
     kin%rot = matmul(tp%a, kin%b)
     ! eq. 4.33: r_G = p + A w
     kin%r = tp%r + matmul(tp%a, q(1:3))

@@ -36,7 +36,7 @@ module rd_multibody
                           spin_from_deviation, deviation_from_spin
   use rd_body_kinematics, only: body_kinematics_t, compute_body_kinematics, ground_kinematics, &
                                 angle_rate_matrix, angle_rate_matrix_dot, inverse_angle_rate, &
-                                frame_rate_shift
+                                frame_rate_shift, rotation_factors
   use rd_force_provider, only: force_provider_t, body_load_t
   use rd_force_element, only: force_element_t, element_result_t
   use rd_external_loads, only: override_loads_t
@@ -406,7 +406,7 @@ contains
     class(multibody_t), intent(inout) :: self
     integer, intent(in) :: i
     real(wp), intent(in) :: y(:), v, vdot, s
-    real(wp) :: q(6), qdot(6), c(6)
+    real(wp) :: q(6), qdot(6), c(6), bzx(3, 3), rot(3, 3)
     integer :: j, k
       associate (b => self%bodies(i))
         q = b%q0
@@ -417,7 +417,8 @@ contains
         ! theta = s/r0 + beta (docs/theory.md, spin deviation)
         if (b%is_wheelset) q(DOF_PITCH) = spin_from_deviation(q(DOF_PITCH), s, b%r0)
         ! relative rates from the generalized velocities nu = qdot + c(q, Omega)
-        c = frame_rate_shift(q, v * self%scratch%frames(b%frame)%omega)
+        call rotation_factors(q(4:6), bzx, rot)
+        c = frame_rate_shift(q, v * self%scratch%frames(b%frame)%omega, rot)
         qdot = 0
         do j = 1, 6
           k = self%free_index(j, i)
@@ -425,7 +426,8 @@ contains
         end do
         ! the spin slot holds nu_theta - V/r0; a frozen spin rolls (dbeta/dt = 0)
         if (b%is_wheelset) qdot(DOF_PITCH) = spin_from_deviation(qdot(DOF_PITCH), v, b%r0)
-        call compute_body_kinematics(self%scratch%kin(i), self%scratch%frames(b%frame), v, vdot, q, qdot, b%is_wheelset)
+        call compute_body_kinematics(self%scratch%kin(i), self%scratch%frames(b%frame), v, vdot, q, qdot, b%is_wheelset, &
+                                     bzx, rot)
       end associate
   end subroutine body_kinematics
 
