@@ -50,14 +50,8 @@ contains
   !> B = Rz(psi) Rx(phi) Ry(theta) (thesis 4.3.2, A.31), angles = (psi, phi, theta).
   pure function body_rotation(angles) result(b)
     real(wp), intent(in) :: angles(3)
-    real(wp) :: b(3, 3), rz(3, 3), rx(3, 3), ry(3, 3), rxy(3, 3)
-    ! factors in local arrays: gfortran then multiplies inline (a matmul of function results
-    ! is a library call with two allocated temporaries)
-    rz = rot_z(angles(1))
-    rx = rot_x(angles(2))
-    ry = rot_y(angles(3))
-    rxy = matmul(rx, ry)
-    b = matmul(rz, rxy)
+    real(wp) :: b(3, 3), bzx(3, 3)
+    call rotation_factors(angles, bzx, b)
   end function body_rotation
 
   !> Z-X-Y angles (psi, phi, theta) of a rotation R = Rz(psi) Rx(phi) Ry(theta): R32 = sin(phi),
@@ -127,6 +121,8 @@ contains
     real(wp), intent(in) :: angles(3)
     real(wp), intent(out) :: bzx(3, 3), b(3, 3)
     real(wp) :: rz(3, 3), rx(3, 3), ry(3, 3)
+    ! factors in local arrays: gfortran then multiplies inline (a matmul of function results
+    ! is a library call with two allocated temporaries)
     rz = rot_z(angles(1))
     rx = rot_x(angles(2))
     ry = rot_y(angles(3))

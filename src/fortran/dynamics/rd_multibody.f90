@@ -1004,6 +1004,7 @@ contains
     real(wp), intent(in) :: y(:)
     real(wp), intent(inout) :: ydot(:)
     integer :: i, e, k, n, b1, b2
+    logical :: reuse
     type(body_kinematics_t) :: kg
     ! gravity (fixed frame, -Z)
     do i = 1, size(self%bodies)
@@ -1017,15 +1018,12 @@ contains
         b1 = el%body1; b2 = el%body2
         n = el%state_count()
         k = 2 * self%nfree + self%el_state_start(e)
-        if (self%reuse_fixed_elements) then
-          if (.not. self%element_moves(e)) then
-            ! res and ydot(k:k + n - 1) hold this element's evaluation at this solve's state
-          else if (b1 == 0) then
-            kg = ground_kinematics(self%scratch%kin(b2))
-            call el%evaluate(t, kg, self%scratch%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
-          else
-            call el%evaluate(t, self%scratch%kin(b1), self%scratch%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
-          end if
+        ! (a fixed element inside a quasi-static solve: res and ydot(k:k + n - 1) hold its
+        ! evaluation at this solve's state)
+        reuse = self%reuse_fixed_elements
+        if (reuse) reuse = .not. self%element_moves(e)
+        if (reuse) then
+          continue
         else if (b1 == 0) then
           kg = ground_kinematics(self%scratch%kin(b2))
           call el%evaluate(t, kg, self%scratch%kin(b2), y(k:k + n - 1), res, ydot(k:k + n - 1))
