@@ -106,10 +106,10 @@ module rd_multibody
     integer :: qs_history_newest = 1
     logical :: has_quasi_static = .false.
     !> Inside one quasi-static solve, after its first load evaluation: the force elements
-    !> that touch no quasi-static body (element_moves false) keep their result (el_res) and
-    !> their states' rates instead of being evaluated again. Exact: within a solve the time,
-    !> the state and every other body stay as they are, and only the quasi-static bodies' z
-    !> and roll move (solve_quasi_static).
+    !> that touch no quasi-static body (element_moves false, set by add_element) keep their
+    !> result (el_res) and their states' rates instead of being evaluated again. Exact:
+    !> within a solve the time, the state and every other body stay as they are, and only
+    !> the quasi-static bodies' z and roll move (solve_quasi_static).
     logical :: reuse_fixed_elements = .false.
     logical :: in_quasi_static_solve = .false.
     logical, allocatable :: element_moves(:)
@@ -199,7 +199,8 @@ contains
     self%qs_history = 0
     self%qs_history_count = 0
     self%qs_history_newest = 1
-    allocate (self%elements(0), self%providers(0), self%el_state_start(0), self%scratch%el_res(0))
+    allocate (self%elements(0), self%providers(0), self%el_state_start(0), self%scratch%el_res(0), &
+              self%element_moves(0))
     allocate (self%scratch%frames(size(frame_offsets)), self%scratch%kin(size(bodies)), self%scratch%loads(size(bodies)))
     call self%override%build(size(bodies))
   end subroutine build
@@ -213,6 +214,7 @@ contains
     if (allocated(self%providers)) deallocate (self%providers)
     if (allocated(self%free_index)) deallocate (self%free_index)
     if (allocated(self%el_state_start)) deallocate (self%el_state_start)
+    if (allocated(self%element_moves)) deallocate (self%element_moves)
     self%scratch = multibody_scratch_t()
     if (allocated(self%qs_jacobian)) deallocate (self%qs_jacobian)
     if (allocated(self%qs_jacobian_valid)) deallocate (self%qs_jacobian_valid)
@@ -234,6 +236,7 @@ contains
     type(element_holder_t), allocatable :: tmp(:)
     type(element_result_t), allocatable :: res(:)
     integer :: n
+    logical :: moves
     if (.not. allocated(self%bodies)) then
       call make_error(error, RD_ERR_INPUT, 'multibody: add_element before build'); return
     end if
@@ -245,6 +248,10 @@ contains
     allocate (tmp(n + 1)%e, source=element)
     call move_alloc(tmp, self%elements)
     self%el_state_start = [self%el_state_start, self%nel_states + 1]
+    ! whether the element moves with a quasi-static body's z and roll (element_loads)
+    moves = any(self%bodies(element%body2)%quasi_static)
+    if (element%body1 > 0) moves = moves .or. any(self%bodies(element%body1)%quasi_static)
+    self%element_moves = [self%element_moves, moves]
     self%nel_states = self%nel_states + element%state_count()
     allocate (res(n + 1))
     call move_alloc(res, self%scratch%el_res)
@@ -455,7 +462,7 @@ contains
     end do
     loads_ready = .false.
     if (self%has_quasi_static .and. .not. self%hold_quasi_static) then
-      call start_fixed_elements(self)
+      self%reuse_fixed_elements = .false.
       self%in_quasi_static_solve = .true.
       call solve_quasi_static(self, t, y, ydot, loads_ready, error)
       self%in_quasi_static_solve = .false.
@@ -889,26 +896,6 @@ contains
       h = ieor(ishftc(h, 23), words(i))
     end do
   end function state_digest
-
-  !> Before a quasi-static solve: which force elements touch a quasi-static body (their
-  !> loads move with its z and roll); evaluated in full until the solve's first residual.
-  subroutine start_fixed_elements(self)
-    class(multibody_t), intent(inout) :: self
-    integer :: e, b1, b2
-    logical :: qs1
-    self%reuse_fixed_elements = .false.
-    if (.not. allocated(self%element_moves)) allocate (self%element_moves(size(self%elements)))
-    if (size(self%element_moves) /= size(self%elements)) then
-      deallocate (self%element_moves)
-      allocate (self%element_moves(size(self%elements)))
-    end if
-    do e = 1, size(self%elements)
-      b1 = self%elements(e)%e%body1; b2 = self%elements(e)%e%body2
-      qs1 = .false.
-      if (b1 > 0) qs1 = any(self%bodies(b1)%quasi_static)
-      self%element_moves(e) = qs1 .or. any(self%bodies(b2)%quasi_static)
-    end do
-  end subroutine start_fixed_elements
 
   !> z'' and roll'' (relative) of every quasi-static body at the current kinematics.
   subroutine quasi_static_residual(self, t, y, ydot, r, error)
