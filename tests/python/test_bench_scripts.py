@@ -169,6 +169,60 @@ def test_friction_energy_work_per_cycle(tmp_path):
     assert r["wheels"]["right"]["creep"] == 0.0
 
 
+def test_friction_energy_balance_per_coordinate(tmp_path):
+    """bench/manchester_friction/energy.py's `balance` on a synthetic results file with closed
+    forms: wheelset 1 oscillates laterally, y = A sin wt, its quasi-static height z = B sin(wt +
+    p); the left wheel has one flange patch at a fixed contact angle g with the normal force N =
+    N0 + N1 cos wt and a constant longitudinal creep force (x does not move: no work); the left
+    primary element damps the lateral rate, F_y = -c dy/dt. Per cycle the normal force gives
+    pi N1 A sin g to y and pi N1 B cos g cos p to z, the damper takes pi c A^2 w; the steady
+    creep force and gravity (constant forces on periodic coordinates) give nothing; the wheel
+    forces rebuilt from the patch equal the wheel series."""
+    import h5py
+    en = _load("bench/manchester_friction/energy.py", "bench_manchester_friction_energy")
+    f_hz, amp_y, amp_z, lag, n0, n1, gamma, damping = 140.0, 2.0e-5, 5.0e-5, 0.7, 6.0e4, 2.0e4, -1.0, 2.0e3
+    w = 2 * np.pi * f_hz
+    t = np.arange(0.0, 0.2, 1.0 / (f_hz * 400))
+    pos = np.zeros((t.size, 6))
+    pos[:, 1] = amp_y * np.sin(w * t)
+    pos[:, 2] = 0.46 + amp_z * np.sin(w * t + lag)
+    vel = np.zeros((t.size, 6))
+    vel[:, 1] = amp_y * w * np.cos(w * t)
+    patch = np.zeros((t.size, 23))
+    patch[:, 0] = 2
+    patch[:, 2] = n0 + n1 * np.cos(w * t)
+    patch[:, 6] = 5.0e3
+    patch[:, 11:14] = [0.0, 0.75, -0.46]
+    patch[:, 17] = gamma
+    wheel = np.zeros((t.size, 6))
+    wheel[:, 2] = patch[:, 2] * np.sin(gamma)
+    wheel[:, 3] = patch[:, 2] * np.cos(gamma)
+    damper = np.zeros((t.size, 3))
+    damper[:, 1] = -damping * vel[:, 1]
+    path = tmp_path / "synthetic.h5"
+    with h5py.File(path, "w") as h:
+        h["time"] = t
+        h["bodies/ws1/position_track"] = pos
+        h["bodies/ws1/velocity_track"] = vel
+        h["bodies/ws1/angles_fixed"] = np.zeros((t.size, 3))
+        for side in ("left", "right"):
+            h[f"wheelsets/w1/{side}/wheel"] = wheel if side == "left" else np.zeros_like(wheel)
+            for j in range(1, 5):
+                h[f"wheelsets/w1/{side}/patch{j}"] = patch if (side, j) == ("left", 1) else np.zeros_like(patch)
+        h["elements/prim1l/force_fixed"] = damper
+        h["elements/prim1r/force_fixed"] = np.zeros_like(damper)
+    b = en.balance(path, 0.0, 0.2)
+    normal, creep, susp = b["groups"]["left normal"], b["groups"]["left creep"], b["groups"]["suspension"]
+    assert normal["y"] == pytest.approx(np.pi * n1 * amp_y * np.sin(gamma), rel=1e-3)
+    assert normal["z"] == pytest.approx(np.pi * n1 * amp_z * np.cos(gamma) * np.cos(lag), rel=1e-3)
+    assert susp["y"] == pytest.approx(-np.pi * damping * amp_y ** 2 * w, rel=1e-3)
+    assert abs(creep["x"]) + abs(b["groups"]["gravity"]["z"]) < 1e-6 * abs(normal["y"])
+    assert abs(b["kinetic"]["y"]) < 1e-3 * abs(normal["y"])
+    assert b["residual"]["y"] == pytest.approx(normal["y"] + susp["y"], rel=1e-3)
+    assert max(b["rebuild_error"].values()) < 1e-6
+    assert "left normal" in en.render_balance(b)
+
+
 def test_jacobian_age_measures_and_renders(build_dir, tmp_path):
     """bench/jacobian_age/run.py: `measure_deck` on the TGV knife-edge curve deck shortened to
     0.3 s at the default age and an old one: the default is the reference (no difference to
