@@ -6,7 +6,7 @@
 !>                  [--rail-longitudinal-radius RL])
 !>                 (--normal-force N | --penetration D)
 !>                 [--young E --poisson NU | --shear-modulus G --poisson NU]
-!>                 [--method elliptic|table] [--max-radius RMAX]
+!>                 [--method elliptic|elliptic_table|table] [--max-radius RMAX]
 !> Radii in m, signed (convex > 0, concave < 0), 'inf' for flat; curvatures in 1/m.
 !> Exit status 0, or 2 with one line on stderr for bad usage.
 module rd_cmd_hertz
@@ -22,7 +22,7 @@ module rd_cmd_hertz
   character(len=*), parameter :: hertz_usage = 'usage: raildyn hertz (--curvatures KXW KYW KXR KYR | ' // &
     '--wheel-radius R [--wheel-transverse-radius RT] [--rail-radius RR] [--rail-longitudinal-radius RL]) ' // &
     '(--normal-force N | --penetration D) [--young E | --shear-modulus G] [--poisson NU] ' // &
-    '[--method elliptic|table] [--max-radius RMAX]'
+    '[--method elliptic|elliptic_table|table] [--max-radius RMAX]'
 
 contains
 
@@ -91,7 +91,7 @@ contains
         call value_arg(i, rmax, ok); if (.not. ok) return
       case ('--method')
         if (i + 1 > size(args)) then
-          call bad('--method expects elliptic or table'); return
+          call bad('--method expects elliptic, elliptic_table or table'); return
         end if
         method = args(i + 1)
       case default

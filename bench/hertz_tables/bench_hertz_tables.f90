@@ -11,7 +11,9 @@
 !> - cost per patch of the elliptic path (hertz_from_penetration) and of the same
 !>   computation with the table lookup instead of the elliptic solve;
 !> - for scale, the geometry per wheel: the strip search and the contact table
-!>   (S1002 / 60E1 1:40, centred wheelset lowered 50 um).
+!>   (S1002 / 60E1 1:40, centred wheelset lowered 50 um);
+!> - the same for rd_hertz's own tabulated path (hertz_method = 'elliptic_table': 4096 nodes
+!>   over [0, ln 1e6], second-order end slopes), the default since it was measured here.
 program bench_hertz_tables
   use, intrinsic :: iso_fortran_env, only: int64
   use rd_kinds, only: wp
@@ -27,17 +29,19 @@ program bench_hertz_tables
   integer, parameter :: n_sizes = 3, n_samples = 100000
   integer, parameter :: sizes(n_sizes) = [64, 256, 1024]
   real(wp), parameter :: x_max = log(1.0e4_wp), a_curv = 1.0_wp, approach = 5.0e-5_wp
-  type(hertz_params_t) :: hp
+  type(hertz_params_t) :: hp, hp_table
   type(error_t), allocatable :: error
   real(wp), allocatable :: xs(:), fm(:), fn(:), fg(:), ratios(:)
   !> the geometry timed for scale (time_geometry)
   type(contact_geometry_t) :: geo
   type(contact_table_t) :: table
   type(wheel_contact_t) :: r
-  real(wp) :: err(3, n_sizes), t_elliptic, t_table(n_sizes), checksum, t_strip, t_tab
+  real(wp) :: err(3, n_sizes), t_elliptic, t_table(n_sizes), checksum, t_strip, t_tab, err_rd(3), t_rd
   integer :: k, i
 
   call build_hertz(hp, error)
+  if (allocated(error)) error stop error%message
+  call build_hertz(hp_table, error, method='elliptic_table')
   if (allocated(error)) error stop error%message
   allocate (ratios(n_samples))
   do i = 1, n_samples
@@ -50,6 +54,8 @@ program bench_hertz_tables
     err(:, k) = table_errors()
     t_table(k) = time_table()
   end do
+  err_rd = rd_table_errors()
+  t_rd = time_per_call(one_rd_table)
   call time_geometry(t_strip, t_tab)
 
   print '(a)', 'Hertz constants over the curvature ratio B/A in [1, 1e4]: elliptic integrals (rd_hertz, AGM, Newton on'
@@ -63,6 +69,8 @@ program bench_hertz_tables
     print '(a,i0,a,3(es9.2,a),f10.1,a,f5.2,a)', '| table, ', sizes(k), ' nodes | ', err(1, k), ' | ', err(2, k), ' | ', &
       err(3, k), ' | ', t_table(k), ' | ', t_table(k) / t_elliptic, ' |'
   end do
+  print '(a,3(es9.2,a),f10.1,a,f5.2,a)', '| rd_hertz elliptic_table (4096 nodes to 1e6, the default) | ', &
+    err_rd(1), ' | ', err_rd(2), ' | ', err_rd(3), ' | ', t_rd, ' | ', t_rd / t_elliptic, ' |'
   print '(a)', ''
   print '(a,f9.1,a,f9.1,a)', 'For scale, the geometry of one wheel: strips (0.2 mm) ', t_strip, ' ns, contact table ', t_tab, ' ns.'
   if (checksum == 12345.678_wp) print *, checksum   ! keeps the timed work observable
@@ -142,6 +150,26 @@ contains
       e = max(e, abs([nf / p%normal_force, a / p%a, b / p%b] - 1))
     end do
   end function table_errors
+
+  !> rd_hertz's elliptic_table against its elliptic path over the same ratios.
+  function rd_table_errors() result(e)
+    real(wp) :: e(3)
+    type(hertz_patch_t) :: p, q
+    integer :: i
+    e = 0
+    do i = 1, n_samples
+      call hertz_from_penetration(hp, curvatures(ratios(i)), approach, p)
+      call hertz_from_penetration(hp_table, curvatures(ratios(i)), approach, q)
+      e = max(e, abs([q%normal_force / p%normal_force, q%a / p%a, q%b / p%b] - 1))
+    end do
+  end function rd_table_errors
+
+  subroutine one_rd_table(i)
+    integer(int64), intent(in) :: i
+    type(hertz_patch_t) :: p
+    call hertz_from_penetration(hp_table, curvatures(ratios(int(mod(i, int(n_samples, int64))) + 1)), approach, p)
+    checksum = checksum + p%a
+  end subroutine one_rd_table
 
   !> ns per call of work(i), repeating until at least 0.3 s has elapsed.
   real(wp) function time_per_call(work) result(ns)

@@ -21,6 +21,8 @@ module rd_hertz
 
   integer, parameter, public :: HERTZ_METHOD_ELLIPTIC = 1  !< exact: AGM elliptic integrals
   integer, parameter, public :: HERTZ_METHOD_TABLE = 2     !< classic printed m, n table (thesis App. B)
+  !> the elliptic solution tabulated over ln(B/A) (cubic Hermite, within 1e-9 of it)
+  integer, parameter, public :: HERTZ_METHOD_ELLIPTIC_TABLE = 3
 
   !> Warning bits of `hertz_patch_t%warning` (0 = clean Hertz case). Callers write the
   !> integer to their output so a conformal or degenerate patch is visible afterwards.
@@ -76,11 +78,24 @@ module rd_hertz
 
   real(wp), parameter :: kprime_min = 1.0e-6_wp  !< b/a >= 1e-6: beyond this the patch is a line
 
+  ! The elliptic path tabulated (hertz_method = 'elliptic_table'). The shape of a Hertz contact
+  ! depends on x = ln(B/A) only: m, n and g = (2 pi m / K(e))^1.5 (k_h = E*/3 g / sqrt(4 (A+B))).
+  ! Nodes uniform in x over [0, ln 1e6], cubic Hermite with central-difference slopes
+  ! (second-order one-sided at the ends): within 2.3e-10 of the elliptic path (test_hertz).
+  ! Ratios beyond the range take the elliptic path.
+  ! One table for every model of the process, filled by the first build_hertz that asks for
+  ! it and read-only afterwards, so that the pure entry points may read it.
+  integer, parameter :: shape_nodes = 4096
+  real(wp), parameter :: shape_x_max = 13.815510557964274_wp   ! ln(1e6)
+  real(wp), save :: shape_table(3, shape_nodes) = 0.0_wp       ! m, n, g per node
+  logical, save :: shape_table_filled = .false.
+
 contains
 
   !> Fix the parameters. Materials by Young's modulus and Poisson ratio of wheel and rail
   !> (same-material default G = 82 GPa, nu = 0.28 gives E = 2 G (1 + nu) = 209.92 GPa).
-  !> `method` is 'elliptic' (default) or 'table'; `max_equivalent_radius` [m] bounds the
+  !> `method` is 'elliptic' (default), 'elliptic_table' (the same, tabulated: faster) or
+  !> 'table' (the printed table, for comparison); `max_equivalent_radius` [m] bounds the
   !> equivalent radius 1/(2A) per direction for conformal or concave contact (default 10 m).
   !> `shear_modulus` [Pa] instead of Young's moduli gives both bodies E = 2 G (1 + nu).
   subroutine build_hertz(params, error, young_wheel, poisson_wheel, young_rail, poisson_rail, &
@@ -124,9 +139,12 @@ contains
     select case (trim(word))
     case ('elliptic'); params%method = HERTZ_METHOD_ELLIPTIC
     case ('table'); params%method = HERTZ_METHOD_TABLE
+    case ('elliptic_table')
+      params%method = HERTZ_METHOD_ELLIPTIC_TABLE
+      if (.not. shape_table_filled) call fill_shape_table()
     case default
       call make_error(error, RD_ERR_INPUT, 'build_hertz: hertz_method "' // trim(word) // &
-                      '" unknown; expected ''elliptic'' or ''table''')
+                      '" unknown; expected ''elliptic'', ''elliptic_table'' or ''table''')
       return
     end select
     params%e_star = 1.0_wp / ((1.0_wp - nw**2) / ew + (1.0_wp - nr**2) / er)
@@ -145,14 +163,13 @@ contains
     real(wp), intent(in) :: curvatures(4)
     real(wp), intent(in) :: approach
     type(hertz_patch_t), intent(out) :: patch
-    real(wp) :: k_first
     logical :: major_is_x
     if (.not. finite(approach) .or. .not. all(finite(curvatures))) then
       patch%warning = HERTZ_WARN_BAD_INPUT
       return
     end if
     if (approach <= 0.0_wp) return
-    call hertz_shape(params, curvatures, patch, k_first, major_is_x)
+    call hertz_shape(params, curvatures, patch, major_is_x)
     patch%approach = approach
     patch%normal_force = patch%k_hertz * approach * sqrt(approach)
     call fill_size(params, patch, major_is_x)
@@ -164,14 +181,13 @@ contains
     real(wp), intent(in) :: curvatures(4)
     real(wp), intent(in) :: normal_force
     type(hertz_patch_t), intent(out) :: patch
-    real(wp) :: k_first
     logical :: major_is_x
     if (.not. finite(normal_force) .or. .not. all(finite(curvatures))) then
       patch%warning = HERTZ_WARN_BAD_INPUT
       return
     end if
     if (normal_force <= 0.0_wp) return
-    call hertz_shape(params, curvatures, patch, k_first, major_is_x)
+    call hertz_shape(params, curvatures, patch, major_is_x)
     patch%normal_force = normal_force
     patch%approach = (normal_force / patch%k_hertz)**(2.0_wp / 3.0_wp)
     call fill_size(params, patch, major_is_x)
@@ -214,13 +230,12 @@ contains
 
   !> Everything that depends on the curvatures only: A, B (thesis eq. 3.29 with the
   !> relative curvatures; A along x, B along y), theta (eq. 3.28), e, m, n and k_h.
-  pure subroutine hertz_shape(params, curvatures, patch, k_first, major_is_x)
+  pure subroutine hertz_shape(params, curvatures, patch, major_is_x)
     type(hertz_params_t), intent(in) :: params
     real(wp), intent(in) :: curvatures(4)
     type(hertz_patch_t), intent(inout) :: patch
-    real(wp), intent(out) :: k_first
     logical, intent(out) :: major_is_x
-    real(wp) :: ax, ay, small, big, kprime, e_second, theta_deg
+    real(wp) :: ax, ay, small, big, kprime, k_first, e_second, theta_deg, x, g
 
     patch%in_contact = .true.
     ! Half the relative curvature per direction (thesis eq. 3.29 pairs kappa_1 + kappa_2
@@ -245,6 +260,14 @@ contains
     major_is_x = ax <= ay
     patch%theta = acos(min(1.0_wp, (big - small) / (big + small)))
 
+    if (params%method == HERTZ_METHOD_ELLIPTIC_TABLE) then
+      x = log(big / small)
+      if (x < shape_x_max) then
+        call shape_lookup(x, patch%m, patch%n, g)
+        patch%k_hertz = params%e_star / 3.0_wp * g / sqrt(4.0_wp * patch%sum_ab)
+        return
+      end if
+    end if
     if (params%method == HERTZ_METHOD_TABLE) then
       theta_deg = patch%theta * 180.0_wp / pi
       call hertz_table_mn(theta_deg, patch%m, patch%n)
@@ -260,6 +283,47 @@ contains
     patch%k_hertz = params%e_star / 3.0_wp * (2.0_wp * pi * patch%m / k_first)**1.5_wp &
                     / sqrt(4.0_wp * patch%sum_ab)
   end subroutine hertz_shape
+
+  !> The table of the elliptic path: m, n and g at the nodes x_j = (j - 1) h,
+  !> h = ln(1e6) / (nodes - 1), each as hertz_shape's elliptic branch computes them.
+  subroutine fill_shape_table()
+    real(wp) :: kprime, k_first, e_second, m
+    integer :: j
+    do j = 1, shape_nodes
+      call solve_kprime(exp(shape_x_max * (j - 1) / (shape_nodes - 1)), kprime, k_first, e_second)
+      m = (2.0_wp * e_second / (pi * kprime**2))**(1.0_wp / 3.0_wp)
+      shape_table(:, j) = [m, m * kprime, (2.0_wp * pi * m / k_first)**1.5_wp]
+    end do
+    shape_table_filled = .true.
+  end subroutine fill_shape_table
+
+  !> m, n, g at x in [0, ln 1e6): cubic Hermite on the node values, slopes by central
+  !> differences (second-order one-sided at the ends).
+  pure subroutine shape_lookup(x, m, n, g)
+    real(wp), intent(in) :: x
+    real(wp), intent(out) :: m, n, g
+    real(wp), parameter :: h = shape_x_max / (shape_nodes - 1)
+    real(wp) :: t, h00, h10, h01, h11, d0(3), d1(3), f(3)
+    integer :: j
+    j = min(int(x / h) + 1, shape_nodes - 1)
+    t = x / h - (j - 1)
+    if (j == 1) then                ! second-order one-sided differences at the ends
+      d0 = 0.5_wp * (4 * shape_table(:, 2) - 3 * shape_table(:, 1) - shape_table(:, 3))
+    else
+      d0 = 0.5_wp * (shape_table(:, j + 1) - shape_table(:, j - 1))
+    end if
+    if (j + 1 == shape_nodes) then
+      d1 = 0.5_wp * (3 * shape_table(:, j + 1) - 4 * shape_table(:, j) + shape_table(:, j - 1))
+    else
+      d1 = 0.5_wp * (shape_table(:, j + 2) - shape_table(:, j))
+    end if
+    h00 = (2 * t - 3) * t * t + 1
+    h10 = ((t - 2) * t + 1) * t
+    h01 = t * t * (3 - 2 * t)
+    h11 = t * t * (t - 1)
+    f = h00 * shape_table(:, j) + h10 * d0 + h01 * shape_table(:, j + 1) + h11 * d1
+    m = f(1); n = f(2); g = f(3)
+  end subroutine shape_lookup
 
   !> Semi-axes (thesis eqs. 3.31-3.32 with the cube root over the whole bracket), peak
   !> pressure and stiffness once N and delta are known.

@@ -74,7 +74,7 @@ module rd_wheelset_contact_spec
     real(wp) :: young_modulus = 0.0_wp               !< [Pa]; 0: from shear_modulus and poisson
     real(wp) :: shear_modulus = 82.0e9_wp            !< G [Pa]
     real(wp) :: poisson = 0.28_wp                    !< nu [-]
-    character(len=16) :: hertz_method = 'elliptic'   !< 'elliptic' | 'table'
+    character(len=16) :: hertz_method = 'elliptic_table'   !< 'elliptic_table' | 'elliptic' | 'table'
     real(wp) :: max_equivalent_radius = 10.0_wp      !< conformal-contact bound of Hertz [m]
     real(wp) :: contact_damping = 0.0_wp             !< normal damping c_n [N s/m] per patch
     real(wp) :: friction = 0.3_wp                    !< mu [-]

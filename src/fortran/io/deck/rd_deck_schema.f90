@@ -483,8 +483,8 @@ contains
             default=0.05_wp, min=zero, max=100.0_wp, min_open=.true., max_open=.true.), &
       preal('contact_damping', 'N s/m', 'normal contact damping', default=zero, min=zero, &
             max=1.0e12_wp, max_open=.true.), &
-      pstr('hertz_method', 'Hertz ellipse coefficients', default='elliptic', &
-           allowed='elliptic|table'), &
+      pstr('hertz_method', 'Hertz ellipse coefficients', default='elliptic_table', &
+           allowed='elliptic|elliptic_table|table'), &
       only_with(preal('rail_precant', '-', 'inclination already contained in the rail profile file (tan)', &
               default=zero, min=zero, max=0.1_wp), 'contact', 'profile'), &
       only_with(preal('rail_precant_right', '-', 'inclination already contained in the right rail profile ' // &
