@@ -29,7 +29,7 @@ program bench_hertz_tables
   integer, parameter :: n_sizes = 3, n_samples = 100000
   integer, parameter :: sizes(n_sizes) = [64, 256, 1024]
   real(wp), parameter :: x_max = log(1.0e4_wp), a_curv = 1.0_wp, approach = 5.0e-5_wp
-  type(hertz_params_t) :: hp, hp_table
+  type(hertz_params_t) :: hp, hp_table, hp_timed
   type(error_t), allocatable :: error
   real(wp), allocatable :: xs(:), fm(:), fn(:), fg(:), ratios(:)
   !> the geometry timed for scale (time_geometry)
@@ -48,14 +48,14 @@ program bench_hertz_tables
     ratios(i) = exp(x_max * sample(i))
   end do
   checksum = 0
-  t_elliptic = time_elliptic()
+  t_elliptic = time_hertz(hp)
   do k = 1, n_sizes
     call tabulate(sizes(k))
     err(:, k) = table_errors()
     t_table(k) = time_table()
   end do
   err_rd = rd_table_errors()
-  t_rd = time_per_call(one_rd_table)
+  t_rd = time_hertz(hp_table)
   call time_geometry(t_strip, t_tab)
 
   print '(a)', 'Hertz constants over the curvature ratio B/A in [1, 1e4]: elliptic integrals (rd_hertz, AGM, Newton on'
@@ -164,13 +164,6 @@ contains
     end do
   end function rd_table_errors
 
-  subroutine one_rd_table(i)
-    integer(int64), intent(in) :: i
-    type(hertz_patch_t) :: p
-    call hertz_from_penetration(hp_table, curvatures(ratios(int(mod(i, int(n_samples, int64))) + 1)), approach, p)
-    checksum = checksum + p%a
-  end subroutine one_rd_table
-
   !> ns per call of work(i), repeating until at least 0.3 s has elapsed.
   real(wp) function time_per_call(work) result(ns)
     interface
@@ -193,20 +186,23 @@ contains
     ns = 1.0e9_wp * real(t1 - t0, wp) / rate / calls
   end function time_per_call
 
-  real(wp) function time_elliptic() result(ns)
-    ns = time_per_call(one_elliptic)
-  end function time_elliptic
+  !> ns per patch of rd_hertz with the given parameters (its method).
+  real(wp) function time_hertz(params) result(ns)
+    type(hertz_params_t), intent(in) :: params
+    hp_timed = params
+    ns = time_per_call(one_hertz)
+  end function time_hertz
 
   real(wp) function time_table() result(ns)
     ns = time_per_call(one_table)
   end function time_table
 
-  subroutine one_elliptic(i)
+  subroutine one_hertz(i)
     integer(int64), intent(in) :: i
     type(hertz_patch_t) :: p
-    call hertz_from_penetration(hp, curvatures(ratios(int(mod(i, int(n_samples, int64))) + 1)), approach, p)
+    call hertz_from_penetration(hp_timed, curvatures(ratios(int(mod(i, int(n_samples, int64))) + 1)), approach, p)
     checksum = checksum + p%a
-  end subroutine one_elliptic
+  end subroutine one_hertz
 
   subroutine one_table(i)
     integer(int64), intent(in) :: i

@@ -76,20 +76,26 @@ def run(exe: Path, work: Path, t_end: float, extra: str = "") -> Path:
     return out
 
 
-def analyse(path: Path, t0: float, t_end: float) -> dict:
+def _read(path: Path, t0: float, t_end: float, balance_series: bool = False) -> dict:
+    """Wheelset 1's series in [t0, t_end]: time, position, velocity, patches (and, for the
+    balance, the heading, the wheel resultants and the primary elements' forces)."""
     with h5py.File(path, "r") as f:
         t = f["time"][...]
         m = (t >= t0) & (t <= t_end + 1e-9)
-        tt = t[m]
-        pos = f["bodies/ws1/position_track"][m]
-        vel = f["bodies/ws1/velocity_track"][m]
-        patches = {side: [f[f"wheelsets/w1/{side}/patch{j}"][m] for j in range(1, 5)] for side in ("left", "right")}
-    yc = pos[:, 1] - pos[:, 1].mean()
-    up = np.where((yc[:-1] < 0) & (yc[1:] >= 0))[0]
-    if len(up) < 3:
-        raise SystemExit(f"fewer than two cycles of wheelset 1 in {t0}-{t_end} s: no cycle to measure")
-    n = len(up) - 1
-    sel = (tt >= tt[up[0]]) & (tt <= tt[up[-1]])
+        d = {"t": t[m], "pos": f["bodies/ws1/position_track"][m], "vel": f["bodies/ws1/velocity_track"][m],
+             "patches": {side: [f[f"wheelsets/w1/{side}/patch{j}"][m] for j in range(1, 5)]
+                         for side in ("left", "right")}}
+        if balance_series:
+            d["heading"] = f["bodies/ws1/angles_fixed"][m][:, 0] - d["pos"][:, 3]
+            d["wheels"] = {side: f[f"wheelsets/w1/{side}/wheel"][m] for side in ("left", "right")}
+            d["primary"] = [(f[f"elements/{name}/force_fixed"][m], ly) for name, ly in PRIMARY]
+    return d
+
+
+def analyse(path: Path, t0: float, t_end: float) -> dict:
+    d = _read(path, t0, t_end)
+    tt, pos, vel, patches = d["t"], d["pos"], d["vel"], d["patches"]
+    sel, n = _cycles(tt, pos[:, 1], t0, t_end)
     ts = tt[sel]
 
     def per_cycle(q):
@@ -148,16 +154,9 @@ def _rotation(yaw: np.ndarray, roll: np.ndarray) -> np.ndarray:
 
 def balance(path: Path, t0: float, t_end: float) -> dict:
     """Work per cycle of each force group on each coordinate of wheelset 1 (module docstring)."""
-    with h5py.File(path, "r") as f:
-        t = f["time"][...]
-        m = (t >= t0) & (t <= t_end + 1e-9)
-        tt = t[m]
-        pos = f["bodies/ws1/position_track"][m]
-        vel = f["bodies/ws1/velocity_track"][m]
-        heading = f["bodies/ws1/angles_fixed"][m][:, 0] - pos[:, 3]
-        patches = {side: [f[f"wheelsets/w1/{side}/patch{j}"][m] for j in range(1, 5)] for side in ("left", "right")}
-        wheels = {side: f[f"wheelsets/w1/{side}/wheel"][m] for side in ("left", "right")}
-        primary = [(f[f"elements/{name}/force_fixed"][m], ly) for name, ly in PRIMARY]
+    d = _read(path, t0, t_end, balance_series=True)
+    tt, pos, vel, patches = d["t"], d["pos"], d["vel"], d["patches"]
+    heading, wheels, primary = d["heading"], d["wheels"], d["primary"]
     sel, n = _cycles(tt, pos[:, 1], t0, t_end)
     ts = tt[sel]
     rate = {"x": vel[:, 0], "y": vel[:, 1], "yaw": vel[:, 3], "spin": vel[:, 5],
