@@ -15,8 +15,11 @@
 !> Patch identity: the wheel profile is cut into a tread part, a flange-root part and a
 !> flange-face part: the tread ends where its slope angle first exceeds `slot_angle` going
 !> from the tape circle towards the flange, where the root begins; the root ends where the
-!> slope angle exceeds `root_angle`, the face begins where it exceeds `face_angle` (the wheel
-!> between the two is in neither part). Each part is searched by the strip model on its own,
+!> slope angle exceeds `root_angle`, the face begins where it exceeds `face_angle`. With
+!> face_angle < root_angle (the default) the root and the face overlap: a contact in the band
+!> between is found by both slots, and their patches carry shares that sum to one across the
+!> band (slot_share), so it counts once; with face_angle > root_angle the wheel between the two
+!> is in neither part. Each part is searched by the strip model on its own,
 !> which gives each slot a signed gap even where it does not touch (onset and loss of a
 !> patch are then a smooth sign change of its penetration, never a change of identity). The
 !> cuts lie where the contact jumps over the wheel (S1002 on 60E1 / UIC60: tread 0.12 ->
@@ -98,16 +101,18 @@ module rd_contact_table
     real(wp) :: slot_angle = 0.2_wp            !< wheel slope angle of the tread/flange cut [rad]
     !> wheel slope angles where the flange-root part ends and the flange-face part begins
     !> [rad]: inside the slopes the contact jumps over on S1002 / 60E1 and UIC60 at zero yaw
-    !> (0.65 -> 1.22 rad, `raildyn profile-scan`; the roll range moves them by 0.03). How far
-    !> apart is a trade, measured (docs/theory_contact_geometry.md section 10): a narrow gap
-    !> lets the near-conformal contact of the concave root, whose penetrated zone reaches
-    !> millimetres along the wheel, into the face part (a second, spurious patch next to the
-    !> jump: at the nodes 0.064 of a 20 um tread force at 0.9 / 1.0 rad, 0.0047 at 0.8 / 1.1);
-    !> a wide one loses the contacts a yawed wheel has between them (the strips: 0.885 rad at
-    !> 14.6 mrad in the Manchester acceptance scene, whose window entries on tables were 3.1 %
-    !> of their family scale off the online run at 0.9 / 1.0, 5.6 % at 0.8 / 1.1)
-    real(wp) :: root_angle = 0.85_wp
-    real(wp) :: face_angle = 1.05_wp
+    !> (0.65 -> 1.22 rad, `raildyn profile-scan`; the roll range moves them by 0.03). The parts
+    !> overlap over 1.02-1.10 rad, where slot_share blends them: a yawed wheel touches between
+    !> root and face (the strips: 0.885 rad at 14.6 mrad in the Manchester acceptance scene),
+    !> which a gap between the parts lost (0.85 / 1.05 as a gap: that scene's window entries on
+    !> tables 7.4 % of their family scale off the online run; 1.10 / 1.02 overlapping: 2.8 %).
+    !> Where is a measured trade (docs/theory_contact_geometry.md section 10): a root part
+    !> reaching further spans more of the zero-yaw jump between two shift nodes (the
+    !> between-node force error, 0.49 here against test_contact_table's 0.5), a face part
+    !> starting lower takes the root's near-conformal spill as its one patch (the node error,
+    !> 0.039 against 0.04) and misses the yawed flange touch (2.5 um)
+    real(wp) :: root_angle = 1.1_wp
+    real(wp) :: face_angle = 1.02_wp
   end type contact_table_options_t
 
   !> One wheel/rail pair (left-wheel model).
@@ -351,9 +356,11 @@ contains
       call make_error(error, RD_ERR_INPUT, 'contact table: reference approach must be in (0, 1e-3] m')
     else if (.not. (options%slot_angle > 0.02_wp .and. options%slot_angle < 1.0_wp)) then
       call make_error(error, RD_ERR_INPUT, 'contact table: slot angle must be in (0.02, 1) rad')
-    else if (.not. (options%root_angle > options%slot_angle + 0.1_wp .and. options%face_angle > options%root_angle &
-                    .and. options%face_angle < 1.4_wp)) then
-      call make_error(error, RD_ERR_INPUT, 'contact table: expected slot angle + 0.1 < root angle < face angle < 1.4 rad')
+    else if (.not. (min(options%root_angle, options%face_angle) > options%slot_angle + 0.1_wp .and. &
+                    max(options%root_angle, options%face_angle) < 1.4_wp .and. &
+                    abs(options%face_angle - options%root_angle) >= 0.01_wp)) then
+      call make_error(error, RD_ERR_INPUT, 'contact table: expected slot angle + 0.1 < root and face angles < 1.4 rad, ' // &
+                      'at least 0.01 rad apart')
     end if
   end subroutine check_options
 
@@ -403,7 +410,7 @@ contains
     i0 = minloc(abs(wheel%s), dim=1)
     do k = 1, ncut
       icut(k) = 0
-      if (k > 1) i0 = icut(k - 1) - 1
+      if (k > 1) i0 = icut(1) - 1          ! root end and face start each from the tread cut (they may overlap)
       do i = i0, 1, -1
         if (-wheel%slope(i) > tan(angles(k))) then
           icut(k) = i
@@ -660,7 +667,7 @@ contains
     !> interpolate every slot, also those certainly clear of the rail (the test of that skip)
     logical, intent(in), optional :: every_slot
     real(wp) :: u, zref, yref, xref, x, t, hb(4), v(TABLE_QUANTITIES), phic, s, a, pv(TABLE_QUANTITIES, 4), delta
-    real(wp) :: db(4), da(4), parity(TABLE_QUANTITIES), yaw_sign(TABLE_QUANTITIES)
+    real(wp) :: db(4), da(4), parity(TABLE_QUANTITIES), yaw_sign(TABLE_QUANTITIES), share
     integer :: iu, ip, iy, k, slot, kk
     res%n_patches = 0
     res%max_penetration = -huge(1.0_wp)
@@ -721,10 +728,12 @@ contains
       delta = (v(Q_HEIGHT) - zref) * max(cos(v(Q_ANGLE)), 0.05_wp)
       res%max_penetration = max(res%max_penetration, delta)
       if (delta <= 0) cycle
+      share = slot_share(slot, v(Q_S_WHEEL))
+      if (share <= 0) cycle
       res%n_patches = res%n_patches + 1
       associate (p => res%patch(res%n_patches))
         p%kind = merge(PATCH_TREAD, PATCH_FLANGE, slot == TABLE_SLOT_TREAD)
-        p%penetration = delta
+        p%penetration = share**(2.0_wp / 3) * delta
         p%contact_angle = v(Q_ANGLE)
         p%normal = [0.0_wp, sin(v(Q_ANGLE)), cos(v(Q_ANGLE))]
         p%point_rail = [xref + v(Q_RAIL_X), yref + v(Q_RAIL_DY), v(Q_RAIL_Z)]
@@ -739,10 +748,30 @@ contains
         p%curv_rail_roll = 0
         p%curv_rail_lat = v(Q_CURV_RAIL_LAT)
         p%strip_length = 0
-        p%share = 1
+        p%share = share
       end associate
     end do
   contains
+    !> Share of a slot's patch at wheel coordinate sw: 1, except where the root and face parts
+    !> overlap (face_angle < root_angle: s_root_end < s_face_start), where the two parts hold
+    !> the same wheel surface and a contact is found by both: across the band the face's share
+    !> rises from 0 at s_face_start to 1 at s_root_end (C1: 3 t^2 - 2 t^3) and the root's falls,
+    !> so that the two patches of one contact carry its force once (blended patches:
+    !> docs/theory_contact_geometry.md section 10). Beyond the band each part's patch lies on
+    !> its continuation past its own cut (share 0: no patch) or on its own surface (share 1).
+    !> By the wheel coordinate, not the contact angle: towards the flange tip the slope falls
+    !> below the band's angles again, on the face part only.
+    pure real(wp) function slot_share(slot, sw) result(w)
+      integer, intent(in) :: slot
+      real(wp), intent(in) :: sw
+      real(wp) :: t
+      w = 1
+      if (slot == TABLE_SLOT_TREAD .or. table%s_root_end >= table%s_face_start) return
+      t = min(max((table%s_face_start - sw) / (table%s_face_start - table%s_root_end), 0.0_wp), 1.0_wp)
+      w = t * t * (3 - 2 * t)
+      if (slot == TABLE_SLOT_FLANGE) w = 1 - w
+    end function slot_share
+
     !> Whether this slot's interpolated touch height is certainly below the reference point,
     !> with an approach below the largest one found so far (the tread's), from the node
     !> values it is interpolated from: along u the Fritsch-Carlson cubic stays between its two

@@ -27,7 +27,7 @@ module rd_contact_table_cache
   public :: obtain_contact_table, contact_table_key, contact_table_cache_dir, contact_table_file
 
   !> Change whenever the table's content or meaning changes (code version of the format).
-  character(len=*), parameter :: TABLE_FORMAT = 'raildyn contact table 4'
+  character(len=*), parameter :: TABLE_FORMAT = 'raildyn contact table 5'
 
   interface
     function c_mkdir(path, mode) result(status) bind(C, name='mkdir')
