@@ -18,7 +18,7 @@
 !> slope angle exceeds `root_angle`, the face begins where it exceeds `face_angle`. With
 !> face_angle < root_angle (the default) the root and the face overlap: a contact in the band
 !> between is found by both slots, and their patches carry shares that sum to one across the
-!> band (slot_share), so it counts once; with face_angle > root_angle the wheel between the two
+!> band where they are one contact (slot_shares), so it counts once; with face_angle > root_angle the wheel between the two
 !> is in neither part. Each part is searched by the strip model on its own,
 !> which gives each slot a signed gap even where it does not touch (onset and loss of a
 !> patch are then a smooth sign change of its penetration, never a change of identity). The
@@ -59,6 +59,9 @@ module rd_contact_table
   public :: split_wheel_surface, TABLE_SLOTS, TABLE_SLOT_TREAD, TABLE_SLOT_FLANGE, TABLE_SLOT_FACE, TABLE_QUANTITIES
 
   integer, parameter :: TABLE_SLOTS = 3
+  !> distance along the wheel profile [m] beyond which a root and a face patch are two
+  !> contacts (slot_shares)
+  real(wp), parameter :: coincidence_length = 1.0e-3_wp
   integer, parameter :: TABLE_SLOT_TREAD = 1, TABLE_SLOT_FLANGE = 2, TABLE_SLOT_FACE = 3
 
   ! tabulated quantities per node and slot
@@ -101,18 +104,19 @@ module rd_contact_table
     real(wp) :: slot_angle = 0.2_wp            !< wheel slope angle of the tread/flange cut [rad]
     !> wheel slope angles where the flange-root part ends and the flange-face part begins
     !> [rad]: inside the slopes the contact jumps over on S1002 / 60E1 and UIC60 at zero yaw
-    !> (0.65 -> 1.22 rad, `raildyn profile-scan`; the roll range moves them by 0.03). The parts
-    !> overlap over 1.02-1.10 rad, where slot_share blends them: a yawed wheel touches between
-    !> root and face (the strips: 0.885 rad at 14.6 mrad in the Manchester acceptance scene),
-    !> which a gap between the parts lost (0.85 / 1.05 as a gap: that scene's window entries on
-    !> tables 7.4 % of their family scale off the online run; 1.10 / 1.02 overlapping: 2.8 %).
-    !> Where is a measured trade (docs/theory_contact_geometry.md section 10): a root part
-    !> reaching further spans more of the zero-yaw jump between two shift nodes (the
-    !> between-node force error, 0.49 here against test_contact_table's 0.5), a face part
-    !> starting lower takes the root's near-conformal spill as its one patch (the node error,
-    !> 0.039 against 0.04) and misses the yawed flange touch (2.5 um)
+    !> (0.65 -> 1.22 rad, `raildyn profile-scan`; the roll range moves them by 0.03). The root
+    !> reaches 1.10 rad, past where a yawed wheel touches between root and face (the strips:
+    !> 0.885 rad at 14.6 mrad in the Manchester acceptance scene), which the cut at 0.85 rad
+    !> lost (that scene's window entries on tables 7.4 % of their family scale off the online
+    !> run, 3.0 % now); the two overlap over 1.05-1.10 rad, blended by slot_shares. Where is a
+    !> measured trade (docs/theory_contact_geometry.md section 10): a root part reaching further
+    !> spans more of the zero-yaw jump between two shift nodes (test_contact_table's
+    !> between-node force error, 0.485 here against its 0.5), a face part starting lower takes
+    !> the root's near-conformal spill as its one patch (the node error), misses the yawed
+    !> flange touch (2.5 um) and, from 1.02 rad, left the flange-climb scene on Polach without a
+    !> balance before its derailment stop
     real(wp) :: root_angle = 1.1_wp
-    real(wp) :: face_angle = 1.02_wp
+    real(wp) :: face_angle = 1.05_wp
   end type contact_table_options_t
 
   !> One wheel/rail pair (left-wheel model).
@@ -668,9 +672,12 @@ contains
     logical, intent(in), optional :: every_slot
     real(wp) :: u, zref, yref, xref, x, t, hb(4), v(TABLE_QUANTITIES), phic, s, a, pv(TABLE_QUANTITIES, 4), delta
     real(wp) :: db(4), da(4), parity(TABLE_QUANTITIES), yaw_sign(TABLE_QUANTITIES), share
+    real(wp) :: deltas(TABLE_SLOTS), shares(TABLE_SLOTS), vs(TABLE_QUANTITIES, TABLE_SLOTS)
     integer :: iu, ip, iy, k, slot, kk
     res%n_patches = 0
     res%max_penetration = -huge(1.0_wp)
+    deltas = -1
+    vs = 0
     if (.not. allocated(table%values)) return
     ! the wheel's reference point (yaw and roll about the wheelset centre, exact)
     yref = y + cos(psi) * (table%y_tape * cos(phi) + table%r0 * sin(phi))
@@ -727,9 +734,15 @@ contains
       ! where cos < 0 made a negative overlap a positive approach: a phantom patch
       delta = (v(Q_HEIGHT) - zref) * max(cos(v(Q_ANGLE)), 0.05_wp)
       res%max_penetration = max(res%max_penetration, delta)
-      if (delta <= 0) cycle
-      share = slot_share(slot, v(Q_S_WHEEL))
-      if (share <= 0) cycle
+      deltas(slot) = delta
+      vs(:, slot) = v
+    end do
+    shares = slot_shares(deltas, vs(Q_S_WHEEL, :))
+    do slot = 1, TABLE_SLOTS
+      delta = deltas(slot)
+      share = shares(slot)
+      if (delta <= 0 .or. share <= 0) cycle
+      v = vs(:, slot)
       res%n_patches = res%n_patches + 1
       associate (p => res%patch(res%n_patches))
         p%kind = merge(PATCH_TREAD, PATCH_FLANGE, slot == TABLE_SLOT_TREAD)
@@ -752,25 +765,40 @@ contains
       end associate
     end do
   contains
-    !> Share of a slot's patch at wheel coordinate sw: 1, except where the root and face parts
-    !> overlap (face_angle < root_angle: s_root_end < s_face_start), where the two parts hold
-    !> the same wheel surface and a contact is found by both: across the band the face's share
-    !> rises from 0 at s_face_start to 1 at s_root_end (C1: 3 t^2 - 2 t^3) and the root's falls,
-    !> so that the two patches of one contact carry its force once (blended patches:
-    !> docs/theory_contact_geometry.md section 10). Beyond the band each part's patch lies on
-    !> its continuation past its own cut (share 0: no patch) or on its own surface (share 1).
-    !> By the wheel coordinate, not the contact angle: towards the flange tip the slope falls
-    !> below the band's angles again, on the face part only.
-    pure real(wp) function slot_share(slot, sw) result(w)
-      integer, intent(in) :: slot
+    !> Shares of the slots' patches (approaches d, wheel coordinates sw): 1, except where the
+    !> root and face parts overlap (face_angle < root_angle: s_root_end < s_face_start). There
+    !> the face's patch carries band_rise of its s (0 at the face's start, 1 at the root's end):
+    !> near its start the face part's one patch is the tail of a contact the root holds (or the
+    !> root's near-conformal spill), so it fades out; and the root's patch gives up band_rise
+    !> of its s times c, the weight of the two patches being one contact (1 at the same s and
+    !> approach, 0 when they are coincidence_length apart along the wheel or one has no
+    !> approach; smooth), so that one contact in the band counts once while a root contact
+    !> beside a distinct face contact keeps its whole force. C1 in the pose (3 t^2 - 2 t^3 and
+    !> smooth weights). By the wheel coordinate, not the contact angle: towards the flange tip
+    !> the slope falls below the band again, on the face part only
+    !> (docs/theory_contact_geometry.md section 10).
+    pure function slot_shares(d, sw) result(w)
+      real(wp), intent(in) :: d(TABLE_SLOTS), sw(TABLE_SLOTS)
+      real(wp) :: w(TABLE_SLOTS)
+      real(wp) :: c, x, r
+      w = 1
+      if (table%s_root_end >= table%s_face_start) return
+      w(TABLE_SLOT_FACE) = band_rise(sw(TABLE_SLOT_FACE))
+      if (d(TABLE_SLOT_FLANGE) <= 0 .or. d(TABLE_SLOT_FACE) <= 0) return
+      x = (sw(TABLE_SLOT_FLANGE) - sw(TABLE_SLOT_FACE)) / coincidence_length
+      if (abs(x) >= 1) return
+      r = min(d(TABLE_SLOT_FLANGE), d(TABLE_SLOT_FACE)) / max(d(TABLE_SLOT_FLANGE), d(TABLE_SLOT_FACE))
+      c = (1 - x * x)**2 * r * r * (3 - 2 * r)
+      w(TABLE_SLOT_FLANGE) = 1 - c * band_rise(sw(TABLE_SLOT_FLANGE))
+    end function slot_shares
+
+    !> 0 at s_face_start, 1 at s_root_end, C1 (3 t^2 - 2 t^3) across the band
+    pure real(wp) function band_rise(sw) result(b)
       real(wp), intent(in) :: sw
       real(wp) :: t
-      w = 1
-      if (slot == TABLE_SLOT_TREAD .or. table%s_root_end >= table%s_face_start) return
       t = min(max((table%s_face_start - sw) / (table%s_face_start - table%s_root_end), 0.0_wp), 1.0_wp)
-      w = t * t * (3 - 2 * t)
-      if (slot == TABLE_SLOT_FLANGE) w = 1 - w
-    end function slot_share
+      b = t * t * (3 - 2 * t)
+    end function band_rise
 
     !> Whether this slot's interpolated touch height is certainly below the reference point,
     !> with an approach below the largest one found so far (the tread's), from the node
