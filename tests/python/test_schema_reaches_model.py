@@ -221,6 +221,7 @@ MUTATIONS = {
     ("wheelset", "fastsim_saturation_width"): ([], [("&wheelset", "fastsim_saturation_width", "0.5")], False),
     ("wheelset", "normal_contact"): ([], [("&wheelset", "normal_contact", "'quasi_static'")], False),
     ("wheelset", "contact_geometry"): ([], [("&wheelset", "contact_geometry", "'table'")], False),
+    ("wheelset", "strip_normal_force"): ([], [("&wheelset", "strip_normal_force", "'potential'")], False),
     ("wheelset", "table_shift_step"): ([("&wheelset", "contact_geometry", "'table'")],
                                        [("&wheelset", "table_shift_step", "2.0e-4")], False),
     ("wheelset", "strip_spacing"): ([], [("&wheelset", "strip_spacing", "1.0e-4")], False),

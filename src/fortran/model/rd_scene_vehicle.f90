@@ -556,6 +556,8 @@ contains
         end if
         call deck%get('wheelset', i, 'contact_geometry', text, error); if (allocated(error)) return
         w%contact_geometry = text
+        call deck%get('wheelset', i, 'strip_normal_force', text, error); if (allocated(error)) return
+        w%strip_normal_force = text
         call deck%get('wheelset', i, 'table_shift_step', w%table%shift_step, error); if (allocated(error)) return
         call deck%get('wheelset', i, 'strip_spacing', w%surface%wheel_spacing, error); if (allocated(error)) return
         w%surface%rail_spacing = w%surface%wheel_spacing

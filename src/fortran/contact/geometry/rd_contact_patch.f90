@@ -43,6 +43,22 @@ module rd_contact_patch
     !> this fraction of the forces of the bump it describes; its penetration is
     !> share^(2/3) times the bump's (so that Hertz gives share times the bump's normal force).
     real(wp) :: share = 1
+    !> Energy-consistent strip normal force (rd_strip_potential, `strip_normal_force =
+    !> 'potential'`): the normal force acts along `force_dir` (track frame, |force_dir| ~ 1,
+    !> minus the gradient of the effective penetration with respect to the wheel's
+    !> displacement) instead of `normal`; the contact frame of the creep forces stays `normal`.
+    logical :: potential_force = .false.
+    real(wp) :: force_dir(3) = [0.0_wp, 0.0_wp, 1.0_wp]
+    !> its moment about the wheelset centre per unit normal force, sum c_i p_i x g_i
+    !> (intermediate frame): the force's own line of action, not the centroid's
+    real(wp) :: force_moment(3) = 0
+    !> gradients of the Hertz curvatures (wheel rolling, wheel lateral, rail lateral) with
+    !> respect to the wheel's translation (1:3, track frame) and rotation (4:6, intermediate
+    !> frame): the Hertz constant's part of the potential's gradient
+    real(wp) :: curv_grad(6, 3) = 0
+    !> gradient of `share` (same frames as curv_grad): a blended patch's potential is
+    !> share times its bump's, whose gradient has the term U_bump grad(share)
+    real(wp) :: share_grad(6) = 0
   end type patch_geometry_t
 
   type :: wheel_contact_t
@@ -64,6 +80,16 @@ contains
       res%patch(i)%point_rail(2) = -res%patch(i)%point_rail(2)
       res%patch(i)%point_wheel(2) = -res%patch(i)%point_wheel(2)
       res%patch(i)%normal(2) = -res%patch(i)%normal(2)
+      res%patch(i)%force_dir(2) = -res%patch(i)%force_dir(2)
+      ! a moment is a pseudo-vector: under Y -> -Y it maps to (-Mx, My, -Mz)
+      res%patch(i)%force_moment(1) = -res%patch(i)%force_moment(1)
+      res%patch(i)%force_moment(3) = -res%patch(i)%force_moment(3)
+      res%patch(i)%curv_grad(2, :) = -res%patch(i)%curv_grad(2, :)
+      res%patch(i)%curv_grad(4, :) = -res%patch(i)%curv_grad(4, :)
+      res%patch(i)%curv_grad(6, :) = -res%patch(i)%curv_grad(6, :)
+      res%patch(i)%share_grad(2) = -res%patch(i)%share_grad(2)
+      res%patch(i)%share_grad(4) = -res%patch(i)%share_grad(4)
+      res%patch(i)%share_grad(6) = -res%patch(i)%share_grad(6)
       res%patch(i)%contact_angle = -res%patch(i)%contact_angle
     end do
   end subroutine mirror_wheel_contact

@@ -15,6 +15,8 @@ module rd_strip_contact
   use rd_contact_patch, only: patch_geometry_t, wheel_contact_t, MAX_PATCHES, &
     PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
   use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
+  use rd_strip_potential, only: effective_penetration, strip_force_direction, region_mean, wheel_point_curvatures, &
+    deepest_point_py_gradient
   implicit none
   private
   public :: strip_wheel_contact
@@ -22,20 +24,24 @@ module rd_strip_contact
   real(wp), parameter :: flange_angle = 0.3_wp   !< |contact angle| from which a patch is a flange patch
   real(wp), parameter :: coarse_gap = 5.0e-4_wp  !< strips farther than this from touching are interpolated [m]
   real(wp), parameter :: virtual_eps = 0.55_wp   !< virtual penetration factor (Kik-Piotrowski: 0.55; see theory doc)
+  real(wp), parameter :: potential_eps = 0.3_wp
 
 contains
 
   !> Contact of the left wheel with the left rail for the wheelset pose relative to the
   !> track frame: lateral y, vertical z of the wheelset centre, roll phi, yaw psi
   !> (B = R_z(psi) R_x(phi), docs/conventions.md).
-  pure subroutine strip_wheel_contact(wheel, rail, y, z, phi, psi, res, exhaustive)
+  pure subroutine strip_wheel_contact(wheel, rail, y, z, phi, psi, res, exhaustive, potential)
     type(wheel_surface_t), intent(in) :: wheel
     type(rail_surface_t), intent(in) :: rail
     real(wp), intent(in) :: y, z, phi, psi
     type(wheel_contact_t), intent(out) :: res
     !> search every cone a line can reach instead of hill climbing (reference for tests)
     logical, intent(in), optional :: exhaustive
-    logical :: full_search
+    !> the energy-consistent normal force (rd_strip_potential) instead of the refined peak
+    !> along the centroid's normal
+    logical, intent(in), optional :: potential
+    logical :: full_search, use_potential
     integer :: jprev
     real(wp) :: delta(rail%n), tline(rail%n), pw(3, rail%n)
     integer :: jseg(rail%n)
@@ -46,6 +52,8 @@ contains
 
     full_search = .false.
     if (present(exhaustive)) full_search = exhaustive
+    use_potential = .false.
+    if (present(potential)) use_potential = potential
     jprev = 1
     cp = cos(phi); sp = sin(phi); cs = cos(psi); ss = sin(psi)
     ! B^T for B = R_z(psi) R_x(phi): rows are B's columns
@@ -182,13 +190,13 @@ contains
       integer, intent(inout) :: np
       type(patch_geometry_t), intent(inout) :: patch(:)
       integer, parameter :: stack_size = 32
-      integer :: lo(stack_size), hi(stack_size), top, a, b, kv, k, kc
-      real(wp) :: share(stack_size), wn, v, pmax, lambda
+      integer :: lo(stack_size), hi(stack_size), top, a, b, kv, k, kc, klo
+      real(wp) :: share(stack_size), wn, v, pmax, lambda, x, dlo, dlam(6), gshare(6, stack_size), gw(6)
       real(wp) :: smax(i1:i2)     ! smax(k) = max(delta(k+1:b)) of the current stretch
       top = 1
-      lo(1) = i1; hi(1) = i2; share(1) = 1
+      lo(1) = i1; hi(1) = i2; share(1) = 1; gshare(:, 1) = 0
       do while (top > 0)
-        a = lo(top); b = hi(top); wn = share(top)
+        a = lo(top); b = hi(top); wn = share(top); gw = gshare(:, top)
         top = top - 1
         kc = a - 1 + maxloc(delta(a:b), dim=1)
         ! lowest valley: a strip strictly below the maxima on both of its sides
@@ -212,31 +220,51 @@ contains
           pmax = max(pmax, delta(k))
         end do
         lambda = 0
+        dlam = 0
         if (kv > 0 .and. top + 2 <= stack_size) then
-          lambda = 1 - v / ((1 - virtual_eps) * min(maxval(delta(a:kv)), maxval(delta(kv:b))))
-          lambda = min(max(lambda, 0.0_wp), 1.0_wp)
+          ! the lower of the two peaks (strip klo)
+          if (maxval(delta(a:kv)) <= maxval(delta(kv:b))) then
+            klo = a - 1 + maxloc(delta(a:kv), dim=1)
+          else
+            klo = kv - 1 + maxloc(delta(kv:b), dim=1)
+          end if
+          dlo = delta(klo)
+          x = 1 - v / ((1 - virtual_eps) * dlo)
+          x = min(max(x, 0.0_wp), 1.0_wp)
           ! C1 ramp (smoothstep): the linear ramp's slope jumped where the split starts/ends
-          lambda = lambda * lambda * (3 - 2 * lambda)
+          lambda = x * x * (3 - 2 * x)
+          ! its pose gradient (potential patches, the share term of rd_strip_potential):
+          ! dx = (-d v + (v / dlo) d dlo) / ((1 - eps) dlo), d delta_i = -G_i d pose
+          if (use_potential .and. x > 0 .and. x < 1) &
+            dlam = 6 * x * (1 - x) * (strip_wrench(kv) - (v / dlo) * strip_wrench(klo)) / ((1 - virtual_eps) * dlo)
         end if
-        if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, np, patch)
+        if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, np, patch, (1 - lambda) * gw - wn * dlam)
         if (lambda > 0) then
           top = top + 1
-          lo(top) = a; hi(top) = kv; share(top) = wn * lambda
+          lo(top) = a; hi(top) = kv; share(top) = wn * lambda; gshare(:, top) = lambda * gw + wn * dlam
           top = top + 1
-          lo(top) = kv; hi(top) = b; share(top) = wn * lambda
+          lo(top) = kv; hi(top) = b; share(top) = wn * lambda; gshare(:, top) = lambda * gw + wn * dlam
         end if
       end do
     end subroutine split_run
 
     !> One patch over the stretch a..b (peak strip kc) of the run r1..r2 with force share wn.
-    pure subroutine add_patch(a, b, kc, wn, r1, r2, np, patch)
+    pure subroutine add_patch(a, b, kc, wn, r1, r2, np, patch, gwn)
       integer, intent(in) :: a, b, kc, r1, r2
       real(wp), intent(in) :: wn
+      !> gradient of the share wn with respect to the wheel's translation and rotation
+      !> (intermediate frame; potential patches only)
+      real(wp), intent(in) :: gwn(6)
       integer, intent(inout) :: np
       type(patch_geometry_t), intent(inout) :: patch(:)
-      real(wp) :: pen
+      real(wp) :: pen, e, f(3), fm(3), curv(3), cgrad(6, 3)
       integer :: iw
-      pen = wn**(2.0_wp / 3.0_wp) * refined_peak(delta, kc, ilo, ihi)
+      if (use_potential) then
+        call potential_of_stretch(a, b, e, f, fm, curv, cgrad)
+        pen = wn**(2.0_wp / 3.0_wp) * e
+      else
+        pen = wn**(2.0_wp / 3.0_wp) * refined_peak(delta, kc, ilo, ihi)
+      end if
       if (np < MAX_PATCHES) then
         np = np + 1
         iw = np
@@ -246,7 +274,89 @@ contains
       end if
       call fill_patch(patch(iw), a, b, kc, pen, r1, r2)
       patch(iw)%share = wn
+      if (use_potential) then
+        patch(iw)%potential_force = .true.
+        patch(iw)%force_dir = matmul(f, bt)          ! B f: intermediate -> track frame
+        patch(iw)%force_moment = fm
+        patch(iw)%curv_wheel_roll = curv(1)
+        patch(iw)%curv_wheel_lat = curv(2)
+        patch(iw)%curv_rail_lat = curv(3)
+        patch(iw)%curv_grad(4:6, :) = cgrad(4:6, :)
+        patch(iw)%curv_grad(1:3, :) = matmul(transpose(bt), cgrad(1:3, :))
+        patch(iw)%share_grad(4:6) = gwn(4:6)
+        patch(iw)%share_grad(1:3) = matmul(transpose(bt), gwn(1:3))
+      end if
     end subroutine add_patch
+
+    !> The energy-consistent description of the stretch a..b (rd_strip_potential): effective
+    !> penetration e, f = sum c_i g_i and fm = sum c_i p_i x g_i (minus the gradient of e
+    !> with respect to the wheel's translation and rotation, intermediate frame), the Hertz
+    !> curvatures as E-weighted means over the region (wheel rolling, wheel lateral, rail
+    !> lateral) and their gradients cgrad (translation 1:3, rotation 4:6). The patch's
+    !> share enters only its magnitude (the share's own gradient, section 6's "share
+    !> term", is not included).
+    pure subroutine potential_of_stretch(a, b, e, f, fm, curv, cgrad)
+      integer, intent(in) :: a, b
+      real(wp), intent(out) :: e, f(3), fm(3), curv(3), cgrad(6, 3)
+      real(wp) :: c(a:b), g(6, a:b), v(a:b, 3), dv(a:b, 3), dmean(a:b, 3), wn(a:b), gpy(6, a:b), pp(3), x, t, &
+                  dt(a:b)
+      integer :: kk, j, q
+      call effective_penetration(delta(a:b), potential_eps, e, c, t, dt)
+      f = 0; fm = 0
+      ! only penetrating strips carry weight (c_i, wn_i and dmean_i vanish elsewhere)
+      do kk = a, b
+        if (.not. (delta(kk) > 0)) then
+          v(kk, :) = 0
+          cycle
+        end if
+        j = jseg(kk)
+        pp = pw(:, kk)
+        g(1:3, kk) = strip_force_direction(pp, delta(kk), wheel%y(j), wheel%y(j + 1), &
+                                           wheel%slope(j), wheel%slope(j + 1), wheel%cone_slope(j))
+        g(4:6, kk) = cross3(pp, g(1:3, kk))
+        call wheel_point_curvatures(pp(2), j, wheel%y, wheel%r, wheel%slope, wheel%kappa, &
+                                    v(kk, 1), v(kk, 2), dv(kk, 1), dv(kk, 2))
+        v(kk, 3) = rail%kappa(kk); dv(kk, 3) = 0
+        x = (pp(2) - wheel%y(j)) / (wheel%y(j + 1) - wheel%y(j))
+        gpy(:, kk) = deepest_point_py_gradient(pp, d, wheel%cone_slope(j), x > 1.0e-9_wp .and. x < 1 - 1.0e-9_wp)
+        f = f + c(kk) * g(1:3, kk)
+        fm = fm + c(kk) * g(4:6, kk)
+      end do
+      if (all(f == 0)) f = matmul(bt, [0.0_wp, rail%ny(kc_of(a, b)), rail%nz(kc_of(a, b))])
+      ! d kappa / d pose = sum dmean_i d delta_i / d pose + sum wn_i kappa_i' d py_i / d pose,
+      ! d delta_i / d pose = -(g_i, p_i x g_i), d py_i / d pose = gpy_i
+      call region_mean(delta(a:b), t, dt, v, curv, dmean, wn)
+      cgrad = 0
+      do kk = a, b
+        if (.not. (delta(kk) > 0)) cycle
+        do q = 1, 3
+          cgrad(:, q) = cgrad(:, q) - dmean(kk, q) * g(:, kk) + wn(kk) * dv(kk, q) * gpy(:, kk)
+        end do
+      end do
+    end subroutine potential_of_stretch
+
+    !> G_i = (g_i, p_i x g_i): minus the gradient of strip i's depth with respect to the
+    !> wheel's translation and rotation (intermediate frame; rd_strip_potential)
+    pure function strip_wrench(i) result(gi)
+      integer, intent(in) :: i
+      real(wp) :: gi(6)
+      integer :: j
+      j = jseg(i)
+      gi(1:3) = strip_force_direction(pw(:, i), delta(i), wheel%y(j), wheel%y(j + 1), &
+                                      wheel%slope(j), wheel%slope(j + 1), wheel%cone_slope(j))
+      gi(4:6) = cross3(pw(:, i), gi(1:3))
+    end function strip_wrench
+
+    pure function cross3(u, w) result(x)
+      real(wp), intent(in) :: u(3), w(3)
+      real(wp) :: x(3)
+      x = [u(2) * w(3) - u(3) * w(2), u(3) * w(1) - u(1) * w(3), u(1) * w(2) - u(2) * w(1)]
+    end function cross3
+
+    pure integer function kc_of(a, b)
+      integer, intent(in) :: a, b
+      kc_of = a - 1 + maxloc(delta(a:b), dim=1)
+    end function kc_of
 
     !> Strips first, first + stride, ..., last (and last itself): strip_depths on this pose.
     pure subroutine evaluate_lines(first, last, stride, delta, tline, pw, jseg, jprev)

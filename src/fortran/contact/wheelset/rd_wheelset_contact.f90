@@ -465,7 +465,7 @@ contains
     type(creepage_t) :: creep
     type(creep_force_t) :: cf
     type(creep_patch_t) :: cp
-    real(wp) :: a(3, 3), n(3), xc(3), yc(3), frame(3, 3), r_c(3), v_c(3), f(3), nf, rate, ft(3)
+    real(wp) :: a(3, 3), n(3), xc(3), yc(3), frame(3, 3), r_c(3), v_c(3), f(3), nf, rate, ft(3), fn(3), mn(3)
     integer :: k
     a = kin%track%a
     fw = 0
@@ -510,10 +510,22 @@ contains
           end if
           cf = creep_force_t(fx=p%share * cf%fx, fy=p%share * cf%fy, mz=p%share * cf%mz)
         end if
-        ! forces on the wheel (thesis 4.90 in contact components, 4.96 spin couple)
-        f = nf * n + cf%fx * xc + cf%fy * yc
-        fw = fw + f
-        mw = mw + cross(r_c, f) + cf%mz * n
+        ! forces on the wheel (thesis 4.90 in contact components, 4.96 spin couple); the
+        ! energy-consistent strip force acts along its own direction (rd_strip_potential)
+        if (p%potential_force) then
+          ! the normal force on its own line of action (moment about the CG, whose
+          ! intermediate frame is the geometry's) with the Hertz constant's gradient term,
+          ! the creep forces at the patch point (rd_strip_potential)
+          call potential_normal_wrench(m, p, nf, hp%normal_force, fn, mn)
+          f = cf%fx * xc + cf%fy * yc
+          mw = mw + cross(r_c, f) + cf%mz * n + matmul(kin%rot_attach, mn)
+          f = f + matmul(a, fn)
+          fw = fw + f
+        else
+          f = nf * n + cf%fx * xc + cf%fy * yc
+          fw = fw + f
+          mw = mw + cross(r_c, f) + cf%mz * n
+        end if
         o%kind = p%kind
         o%penetration = p%penetration
         o%normal_force = nf
@@ -541,6 +553,44 @@ contains
     out%y_over_q = 0
     if (ft(3) > q_min) out%y_over_q = merge(-1.0_wp, 1.0_wp, side == SIDE_LEFT) * ft(2) / ft(3)
   end subroutine wheel_pipeline
+
+  !> The energy-consistent normal force of a potential patch (rd_strip_potential): with
+  !> U = share (2/5) K(kappa) E^(5/2) (K the Hertz constant of the patch's curvatures kappa,
+  !> E its effective penetration, N = share K E^(3/2) = nf), minus the gradient of U is
+  !>    N (-grad E) - (2/5) E [share sum_j (dN_bump / d kappa_j) grad kappa_j + N_bump grad share],
+  !> with dN/dkappa_j at fixed E by central differences of the Hertz model (its tables are
+  !> C1). fn: force (track frame), mn: moment about the wheelset centre (intermediate frame).
+  subroutine potential_normal_wrench(m, p, nf, n_bump, fn, mn)
+    type(wheelset_model_t), intent(in) :: m
+    type(patch_geometry_t), intent(in) :: p
+    real(wp), intent(in) :: nf
+    real(wp), intent(in) :: n_bump      !< the Hertz force of the bump at E (share 1)
+    real(wp), intent(out) :: fn(3), mn(3)
+    type(hertz_patch_t) :: hp
+    real(wp) :: curv(4), cp(4), e, h, dn_da, dn_db, grad(6)
+    fn = nf * p%force_dir
+    mn = nf * p%force_moment
+    e = p%penetration / p%share**(2.0_wp / 3)
+    if (.not. (e > 0)) return
+    curv = [p%curv_wheel_roll, p%curv_wheel_lat, p%curv_rail_roll, p%curv_rail_lat]
+    ! Hertz depends on the curvatures through A = (wheel + rail rolling) / 2 and B = (wheel +
+    ! rail lateral) / 2 (eq. 4.73-4.75): dN/dkappa = (dN/dA or dN/dB) / 2, one-sided
+    ! differences (the Hertz tables are C1; the step's truncation, ~1e-6 relative, is far
+    ! below what this term needs)
+    h = 1.0e-6_wp * (abs(curv(1)) + abs(curv(3)) + 1)
+    cp = curv; cp(1) = curv(1) + h
+    call hertz_from_penetration(m%hertz, cp, e, hp)
+    dn_da = (hp%normal_force - n_bump) / h
+    h = 1.0e-6_wp * (abs(curv(2)) + abs(curv(4)) + 1)
+    cp = curv; cp(2) = curv(2) + h
+    call hertz_from_penetration(m%hertz, cp, e, hp)
+    dn_db = (hp%normal_force - n_bump) / h
+    grad = p%share * (dn_da * p%curv_grad(:, 1) + dn_db * (p%curv_grad(:, 2) + p%curv_grad(:, 3))) &
+           + n_bump * p%share_grad
+    ! the share term: U = share U_bump, U_bump = (2/5) N_bump E
+    fn = fn - 0.4_wp * e * grad(1:3)
+    mn = mn - 0.4_wp * e * grad(4:6)
+  end subroutine potential_normal_wrench
 
   !> Contact frame and wheel material point of a patch (thesis eqs. 4.80-4.85), fixed frame.
   !> frame(:, 1:3) = x_c, y_c, n (docs/conventions.md): n from the rail into the wheel

@@ -417,6 +417,11 @@ contains
       only_with(pstr('contact_geometry', 'profile contact geometry: the strip search online, or pre-computed ' // &
              'tables of it (docs/theory_contact_geometry.md section 10)', default='strips', allowed='strips|table'), &
                 'contact', 'profile'), &
+      only_with(pstr('strip_normal_force', 'online strips: the normal force of a patch: centroid (the ' // &
+             'refined peak penetration along the rail normal at the centroid of the virtual-penetration ' // &
+             'region) or potential (an effective penetration and its gradient: a conservative force field; ' // &
+             'docs/theory_flange_chatter.md section 13)', default='centroid', allowed='centroid|potential'), &
+                'contact_geometry', 'strips'), &
       only_with(preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift (the build ' // &
               'time grows as 1/step: about 1-4 s at 1e-4)', default=1.0e-4_wp, &
               min=2.0e-5_wp, max=1.0e-3_wp), 'contact_geometry', 'table'), &

@@ -1,0 +1,270 @@
+!> An energy-consistent normal force for the strip contact (docs/theory_flange_chatter.md
+!> section 6; selected by `strip_normal_force = 'potential'`).
+!>
+!> The classic strip force (rd_strip_contact) takes the refined peak as the penetration and
+!> applies the Hertz force along the rail normal at the centroid of the virtual-penetration
+!> region. That field is not a gradient: around closed loops of poses at the flange root /
+!> flange jump it returns work (docs/theory_flange_chatter.md sections 3 and 12; at
+!> friction 0.6 the flange wheel's normal force is the only group with positive work per
+!> cycle of the Manchester limit cycle). Here the penetration is a smooth function E of
+!> the strip depths and the force direction on the wheel is the gradient of E with
+!> respect to the wheel's displacement, so that at a fixed Hertz constant the force
+!> N F = K E^(3/2) (-grad_u E) derives from U = (2/5) K E^(5/2).
+module rd_strip_potential
+  use rd_kinds, only: wp
+  implicit none
+  private
+  !> order q of the Lehmer mean that stands in for the deepest strip (effective_penetration):
+  !> larger follows the deepest bump more closely, with steeper changes between bumps
+  integer, parameter :: lehmer_order = 8
+  public :: effective_penetration, strip_force_direction, region_mean, wheel_point_curvatures, deepest_point_py_gradient
+
+contains
+
+  !> Effective penetration of a bump's strips and its gradient c_i = dE/d delta_i.
+  !>
+  !> Over the virtual-penetration region delta_i > t (Kik & Piotrowski's region):
+  !>
+  !>    E = G(t) / (1 - eps/7),   G(t) = sum (delta_i - t)^2 delta_i / sum (delta_i - t)^2,
+  !>
+  !> For a parabolic (Hertzian) gap delta = P (1 - s^2 / s0^2) with t = (1 - eps) P,
+  !> G = P (1 - eps (16/105) / (16/15)) = P (1 - eps/7), so E = P, the peak depth of every
+  !> Hertzian gap whatever its curvature. The threshold is a smooth stand-in for
+  !> (1 - eps) max delta: the Lehmer mean L = sum delta_+^q / sum delta_+^(q-1), which for a
+  !> parabolic gap is P 2q / (2q + 1) (the ratio of the integrals of (1 - s^2)^q and
+  !> (1 - s^2)^(q-1)), so
+  !>
+  !>    t = (1 - eps) (2q + 1) / (2q) L,   q = lehmer_order.
+  !>
+  !> With the deepest strip itself (the first form) the force direction jumped where the
+  !> deepest strip moved from one bump of a flat or two-bump gap to the other, and with t
+  !> tied to E by a fixed point the fixed point was not unique on two-bump stretches (the
+  !> solve picked one root or the other); L is one smooth function of all strips. Strips
+  !> enter the region with zero weight and zero slope, so E and c are continuous. With
+  !> G_i = [2 (delta_i - t)(delta_i - G) + (delta_i - t)^2] / W, G'(t) = -sum 2 (delta_i - t)(delta_i - G) / W
+  !> and dL/d delta_i = delta_i^(q-2) (q delta_i - (q - 1) L) / sum delta_+^(q-1),
+  !>
+  !>    c_i = [G_i + G'(t) (1 - eps) (2q + 1) / (2q) dL/d delta_i] / (1 - eps/7).
+  !>
+  !> A stretch without penetration (max delta <= 0: a patch opened by its refined peak
+  !> alone) has E = max delta, c = 0, t = 0.
+  pure subroutine effective_penetration(delta, eps, e, c, t, dt)
+    real(wp), intent(in) :: delta(:)
+    real(wp), intent(in) :: eps        !< virtual penetration factor (Kik & Piotrowski 0.55)
+    real(wp), intent(out) :: e
+    real(wp), intent(out) :: c(:)      !< dE/d delta_i, size(delta)
+    real(wp), intent(out) :: t         !< the region's threshold
+    real(wp), intent(out) :: dt(:)     !< dt/d delta_i
+    integer, parameter :: q = lehmer_order
+    real(wp) :: dmax, sq, sq1, lm, tfac, w, g, dg, x
+    integer :: i
+    c = 0; dt = 0
+    dmax = maxval(delta)
+    t = 0
+    if (.not. (dmax > 0)) then
+      e = dmax
+      return
+    end if
+    ! Lehmer mean on delta / dmax (scaled: no overflow or underflow of the powers)
+    sq = 0; sq1 = 0
+    do i = 1, size(delta)
+      if (delta(i) > 0) then
+        x = delta(i) / dmax
+        sq1 = sq1 + x**(q - 1)
+        sq = sq + x**q
+      end if
+    end do
+    lm = dmax * sq / sq1
+    tfac = (1 - eps) * (2 * q + 1) / real(2 * q, wp)
+    t = tfac * lm
+    w = 0; g = 0
+    do i = 1, size(delta)
+      if (delta(i) > t) then
+        x = (delta(i) - t)**2
+        w = w + x
+        g = g + x * delta(i)
+      end if
+    end do
+    g = g / w
+    dg = 0
+    do i = 1, size(delta)
+      if (delta(i) > t) then
+        c(i) = (2 * (delta(i) - t) * (delta(i) - g) + (delta(i) - t)**2) / w
+        dg = dg - 2 * (delta(i) - t) * (delta(i) - g) / w
+      end if
+    end do
+    ! the threshold's part: dt/d delta_i = tfac dL/d delta_i
+    do i = 1, size(delta)
+      if (delta(i) > 0) then
+        x = delta(i) / dmax
+        dt(i) = tfac * x**(q - 2) * (q * x - (q - 1) * lm / dmax) / sq1
+        c(i) = c(i) + dg * dt(i)
+      end if
+    end do
+    e = g / (1 - eps / 7)
+    c = c / (1 - eps / 7)
+  end subroutine effective_penetration
+
+  !> The means of strip values v(i, q) over the region of effective_penetration (threshold
+  !> t and its gradient dt) with E's weights, mean_q = sum (delta_i - t)^2 v_iq / sum (delta_i - t)^2,
+  !> their derivatives dmean(i, q) = d mean_q / d delta_i at fixed v (the threshold moves
+  !> with the strips: dt/d delta_i), and the normalised weights wn_i (for the
+  !> derivatives through v). The Hertz curvatures of a potential patch are these means, so
+  !> that the Hertz constant is a differentiable function of the pose (its gradient enters
+  !> the force). Only strips inside the region (delta_i > t) are read.
+  pure subroutine region_mean(delta, t, dt, v, mean, dmean, wn)
+    real(wp), intent(in) :: delta(:), t, dt(:), v(:, :)
+    real(wp), intent(out) :: mean(:), dmean(:, :), wn(:)
+    real(wp) :: w, dmdt(size(mean))
+    integer :: i, m
+    dmean = 0; wn = 0
+    if (.not. (maxval(delta) > 0)) then
+      m = maxloc(delta, dim=1)
+      mean = v(m, :); wn(m) = 1
+      return
+    end if
+    w = 0
+    do i = 1, size(delta)
+      if (delta(i) > t) then
+        wn(i) = (delta(i) - t)**2
+        w = w + wn(i)
+      end if
+    end do
+    wn = wn / w
+    mean = 0
+    do i = 1, size(delta)
+      if (delta(i) > t) mean = mean + wn(i) * v(i, :)
+    end do
+    dmdt = 0
+    do i = 1, size(delta)
+      if (delta(i) > t) then
+        dmean(i, :) = 2 * (delta(i) - t) * (v(i, :) - mean) / w
+        dmdt = dmdt - dmean(i, :)
+      end if
+    end do
+    do i = 1, size(delta)
+      if (dt(i) /= 0) dmean(i, :) = dmean(i, :) + dmdt * dt(i)
+    end do
+  end subroutine region_mean
+
+  !> The wheel's principal curvatures at lateral position py on segment j of the profile
+  !> points y, r (radius), slope (dr/dy) and kappa (smoothed profile curvature): rolling
+  !> direction cos(gamma)/r = 1 / (r sqrt(1 + k^2)) (thesis eq. 4.75) and profile
+  !> (lateral), and their derivatives with respect to py. Both are cubic Hermite
+  !> interpolations of their point values with central-difference slopes: C1 in py, so that
+  !> the Hertz constant's gradient term of the potential force is continuous where a
+  !> strip's deepest point crosses a profile point (with linear interpolation its slope
+  !> jumped at every point, 0.2 mm apart, and the integrator's Newton iteration failed
+  !> there). Clamped (derivatives zero) beyond the profile's ends.
+  pure subroutine wheel_point_curvatures(py, j, y, r, slope, kappa, k_roll, k_lat, dk_roll, dk_lat)
+    real(wp), intent(in) :: py
+    integer, intent(in) :: j
+    real(wp), intent(in) :: y(:), r(:), slope(:), kappa(:)
+    real(wp), intent(out) :: k_roll, k_lat, dk_roll, dk_lat
+    real(wp) :: h, x, v0, v1, m0, m1
+    integer :: n
+    n = size(y)
+    h = y(j + 1) - y(j)
+    x = (py - y(j)) / h
+    if (x <= 0 .or. x >= 1) then
+      x = min(max(x, 0.0_wp), 1.0_wp)
+      k_roll = roll_at(j + nint(x)); k_lat = kappa(j + nint(x))
+      dk_roll = 0; dk_lat = 0
+      return
+    end if
+    v0 = roll_at(j); v1 = roll_at(j + 1)
+    m0 = (roll_at(min(j + 1, n)) - roll_at(max(j - 1, 1))) / (y(min(j + 1, n)) - y(max(j - 1, 1)))
+    m1 = (roll_at(min(j + 2, n)) - roll_at(j)) / (y(min(j + 2, n)) - y(j))
+    call hermite(x, h, v0, v1, m0, m1, k_roll, dk_roll)
+    v0 = kappa(j); v1 = kappa(j + 1)
+    m0 = (kappa(min(j + 1, n)) - kappa(max(j - 1, 1))) / (y(min(j + 1, n)) - y(max(j - 1, 1)))
+    m1 = (kappa(min(j + 2, n)) - kappa(j)) / (y(min(j + 2, n)) - y(j))
+    call hermite(x, h, v0, v1, m0, m1, k_lat, dk_lat)
+  contains
+    pure real(wp) function roll_at(i)
+      integer, intent(in) :: i
+      roll_at = 1 / (r(i) * sqrt(1 + slope(i)**2))
+    end function roll_at
+    pure subroutine hermite(x, h, v0, v1, m0, m1, v, dv)
+      real(wp), intent(in) :: x, h, v0, v1, m0, m1
+      real(wp), intent(out) :: v, dv
+      real(wp) :: x2, x3
+      x2 = x * x; x3 = x2 * x
+      v = (2 * x3 - 3 * x2 + 1) * v0 + (x3 - 2 * x2 + x) * h * m0 + (-2 * x3 + 3 * x2) * v1 + (x3 - x2) * h * m1
+      dv = ((6 * x2 - 6 * x) * v0 + (3 * x2 - 4 * x + 1) * h * m0 + (-6 * x2 + 6 * x) * v1 + (3 * x2 - 2 * x) * h * m1) / h
+    end subroutine hermite
+  end subroutine wheel_point_curvatures
+
+  !> Gradient of the lateral position p_y of a line's deepest point with respect to the
+  !> wheel's translation (1:3) and rotation (4:6), intermediate frame. The point is the
+  !> rail point p moving rigidly by -u (-theta e x p) relative to the wheel, plus its shift
+  !> t along the line (direction d) where the deepest point is a stationary point inside a
+  !> cone of slope s: D(t) = r(p_y(t)) - rho(t) with D_t = 0, so by the implicit function
+  !> theorem dt = -(dD_t) / D_tt with (r'' = 0 on a cone, s_xz = p_x d_x + p_z d_z)
+  !>    D_tt = -(a^2 rho^2 - s_xz^2) / rho^3,   a^2 = d_x^2 + d_z^2,
+  !>    grad_p D_t = -(d_x / rho - s_xz p_x / rho^3, 0, d_z / rho - s_xz p_z / rho^3),
+  !>    grad_d D_t = (-p_x / rho, s, -p_z / rho),
+  !> dD_t = -grad_p D_t . u for a translation, -(p x grad_p D_t + d x grad_d D_t) . e theta
+  !> for a rotation. On a yawed wheel the shift is as large as the rigid part (it doubled
+  !> the yaw derivative of the flange curvatures). `inside`: the stationary point lies
+  !> inside the cone (else it sits on the cone's edge, a circle of the wheel: p_y fixed).
+  pure function deepest_point_py_gradient(p, d, s, inside) result(gpy)
+    real(wp), intent(in) :: p(3), d(3), s
+    logical, intent(in) :: inside
+    real(wp) :: gpy(6)
+    real(wp) :: rho, sxz, a2, dtt, gp(3), gd(3), dt(6)
+    gpy = 0
+    if (.not. inside) return
+    rho = hypot(p(1), p(3))
+    sxz = p(1) * d(1) + p(3) * d(3)
+    a2 = d(1)**2 + d(3)**2
+    dtt = -(a2 * rho**2 - sxz**2) / rho**3
+    gp = -[d(1) / rho - sxz * p(1) / rho**3, 0.0_wp, d(3) / rho - sxz * p(3) / rho**3]
+    gd = [-p(1) / rho, s, -p(3) / rho]
+    dt(1:3) = gp / dtt
+    dt(4:6) = (cross(p, gp) + cross(d, gd)) / dtt
+    gpy(1:3) = [0.0_wp, -1.0_wp, 0.0_wp]
+    gpy(4:6) = -cross(p, [0.0_wp, 1.0_wp, 0.0_wp])
+    gpy = gpy + d(2) * dt
+  end function deepest_point_py_gradient
+
+  pure function cross(u, w) result(x)
+    real(wp), intent(in) :: u(3), w(3)
+    real(wp) :: x(3)
+    x = [u(2) * w(3) - u(3) * w(2), u(3) * w(1) - u(1) * w(3), u(1) * w(2) - u(2) * w(1)]
+  end function cross
+
+  !> Direction in which a wheel displacement u (wheelset intermediate frame) DEcreases the
+  !> normal depth of one strip, -d delta_i / d u: the direction of that strip's force on
+  !> the wheel. The strip depth is delta_i = d_i / sqrt(1 + k^2) (rd_strip_contact:
+  !> d_i the largest radial depth of the rail line into the wheel's cone j of slope s_j,
+  !> k the profile slope interpolated at the deepest point p). By the envelope theorem
+  !> only the explicit dependence on p counts; a wheel displacement u moves p by -u
+  !> relative to the wheel (the shift of the deepest point along a yawed line is
+  !> neglected), so with e_rho the radial unit vector at p and k_y = dk/dy on the segment
+  !>
+  !>    g = (-e_rho + s_j e_y) / sqrt(1 + k^2) - d_i k k_y / (1 + k^2)^(3/2) e_y.
+  !>
+  !> The cone slope s_j and the last term matter: with the unit surface normal instead the
+  !> loop work at the flange jump stayed at 1e-2 (section 6 of the theory note).
+  pure function strip_force_direction(p, depth, yj, yj1, slope_j, slope_j1, cone_slope) result(g)
+    real(wp), intent(in) :: p(3)         !< deepest point of the line, intermediate frame [m]
+    real(wp), intent(in) :: depth        !< normal depth delta_i [m]
+    real(wp), intent(in) :: yj, yj1      !< the cone's end points' lateral positions [m]
+    real(wp), intent(in) :: slope_j, slope_j1  !< profile slopes dr/dy at those points
+    real(wp), intent(in) :: cone_slope   !< dr/dy of the cone
+    real(wp) :: g(3)
+    real(wp) :: x, k, ky, rho, root
+    x = (p(2) - yj) / (yj1 - yj)
+    ky = 0
+    if (x > 0 .and. x < 1) ky = (slope_j1 - slope_j) / (yj1 - yj)
+    x = min(max(x, 0.0_wp), 1.0_wp)
+    k = slope_j + x * (slope_j1 - slope_j)
+    root = sqrt(1 + k**2)
+    rho = hypot(p(1), p(3))
+    g = [-p(1) / rho, cone_slope, -p(3) / rho] / root
+    ! d_i k k_y / (1 + k^2)^(3/2) with d_i = delta_i sqrt(1 + k^2)
+    g(2) = g(2) - depth * k * ky / root**2
+  end function strip_force_direction
+
+end module rd_strip_potential
