@@ -64,6 +64,7 @@ program bench_contact_smoothness
     'strips 0.2 mm, FASTSIM 20x20 | creep_law=fastsim fastsim_grid=20', &
     'strips 0.2 mm, Polach | creep_law=polach', &
     'strips 0.2 mm, linear | creep_law=linear', &
+    'strips 0.2 mm, FASTSIM 10x10, potential normal force | creep_law=fastsim fastsim_grid=10 strip_normal_force=potential', &
     'tables of strips 0.2 mm, FASTSIM 10x10 | contact_geometry=table creep_law=fastsim fastsim_grid=10']
   character(len=*), parameter :: creep_levels(*) = [character(len=120) :: &
     'linear | creep_law=linear', &
@@ -239,10 +240,12 @@ contains
     case ('polach_ks'); spec%creep_options%polach_ks = real_setting(key, value)
     case ('spin_creep'); spec%spin_creep = value == 'true' .or. value == '.true.'
     case ('hertz_method'); spec%hertz_method = value
+    case ('strip_normal_force'); spec%strip_normal_force = value
     case ('friction'); spec%friction = real_setting(key, value)
     case default
       error stop 'bench_contact_smoothness: unknown level setting ''' // key // '''; expected model, ' // &
         'contact_geometry, rail_spacing, wheel_spacing, curvature_sigma, creep_law, fastsim_grid, fastsim_bound, ' // &
+        'strip_normal_force, ' // &
         'creep_saturation, polach_ka, ' // &
         'polach_ks, spin_creep, hertz_method or friction'
     end select

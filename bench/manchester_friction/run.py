@@ -19,7 +19,7 @@ per wheelset as the variants set it): the strips' friction-0.6 cycle is not ther
 (docs/theory_flange_chatter.md section 12).
 
     python3 bench/manchester_friction/run.py [--build DIR] [--work DIR] [--keep] [--compare DIR]
-        [--only 02 04 06] [--timeout S] [--single] [--tables]
+        [--only 02 04 06] [--timeout S] [--single] [--tables] [--extra DECK_LINES]
 
 The build is --build, else $RAILDYN_BUILD_DIR, else <repo>/build.
 """
@@ -129,6 +129,9 @@ def main():
     ap.add_argument("--only", nargs="*", default=list(DECKS), choices=list(DECKS))
     ap.add_argument("--timeout", type=float, default=1800.0, help="wall-clock limit per run [s]")
     ap.add_argument("--single", action="store_true", help="the decks only, without their smaller-atol runs")
+    ap.add_argument("--extra", default="",
+                    help="deck lines appended to every deck, e.g. the four \"&wheelset name = 'wK', "
+                         "strip_normal_force = 'potential' /\" lines (docs/theory_flange_chatter.md section 13)")
     ap.add_argument("--tables", action="store_true",
                     help="the tables deck (inputs/manchester_v1_tc1_tables.nml) at each friction instead")
     args = ap.parse_args()
@@ -148,7 +151,7 @@ def main():
             variants.append((f"atol{0.9 * atol:.0e}", f"&solver atol = {0.9 * atol:.1e} /\n"))
         for tag, extra in variants[:1] if args.single else variants:
             deck = work / f"friction_{key}__{tag}.nml"
-            deck.write_text(deck_text(key, args.tables) + extra)
+            deck.write_text(deck_text(key, args.tables) + (args.extra.rstrip() + "\n" if args.extra else "") + extra)
             out = work / f"friction_{key}__{tag}.h5"
             rc, cpu, wall = run(exe, deck, out, args.timeout)
             if rc != 0:
