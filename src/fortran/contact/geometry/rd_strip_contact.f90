@@ -11,6 +11,7 @@
 !> unless -fstack-arrays: about 3 allocations per wheel call, ~2 % of the instructions, callgrind).
 module rd_strip_contact
   use rd_kinds, only: wp
+  use rd_rotation, only: cross
   use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t, locate
   use rd_contact_patch, only: patch_geometry_t, wheel_contact_t, MAX_PATCHES, &
     PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
@@ -313,7 +314,7 @@ contains
         pp = pw(:, kk)
         g(1:3, kk) = strip_force_direction(pp, delta(kk), wheel%y(j), wheel%y(j + 1), &
                                            wheel%slope(j), wheel%slope(j + 1), wheel%cone_slope(j))
-        g(4:6, kk) = cross3(pp, g(1:3, kk))
+        g(4:6, kk) = cross(pp, g(1:3, kk))
         call wheel_point_curvatures(pp(2), j, wheel%y, wheel%r, wheel%slope, wheel%kappa, &
                                     v(kk, 1), v(kk, 2), dv(kk, 1), dv(kk, 2))
         v(kk, 3) = rail%kappa(kk); dv(kk, 3) = 0
@@ -344,14 +345,8 @@ contains
       j = jseg(i)
       gi(1:3) = strip_force_direction(pw(:, i), delta(i), wheel%y(j), wheel%y(j + 1), &
                                       wheel%slope(j), wheel%slope(j + 1), wheel%cone_slope(j))
-      gi(4:6) = cross3(pw(:, i), gi(1:3))
+      gi(4:6) = cross(pw(:, i), gi(1:3))
     end function strip_wrench
-
-    pure function cross3(u, w) result(x)
-      real(wp), intent(in) :: u(3), w(3)
-      real(wp) :: x(3)
-      x = [u(2) * w(3) - u(3) * w(2), u(3) * w(1) - u(1) * w(3), u(1) * w(2) - u(2) * w(1)]
-    end function cross3
 
     pure integer function kc_of(a, b)
       integer, intent(in) :: a, b

@@ -12,6 +12,7 @@
 !> N F = K E^(3/2) (-grad_u E) derives from U = (2/5) K E^(5/2).
 module rd_strip_potential
   use rd_kinds, only: wp
+  use rd_rotation, only: cross
   implicit none
   private
   !> order q of the Lehmer mean that stands in for the deepest strip (effective_penetration):
@@ -227,12 +228,6 @@ contains
     gpy(4:6) = -cross(p, [0.0_wp, 1.0_wp, 0.0_wp])
     gpy = gpy + d(2) * dt
   end function deepest_point_py_gradient
-
-  pure function cross(u, w) result(x)
-    real(wp), intent(in) :: u(3), w(3)
-    real(wp) :: x(3)
-    x = [u(2) * w(3) - u(3) * w(2), u(3) * w(1) - u(1) * w(3), u(1) * w(2) - u(2) * w(1)]
-  end function cross
 
   !> Direction in which a wheel displacement u (wheelset intermediate frame) DEcreases the
   !> normal depth of one strip, -d delta_i / d u: the direction of that strip's force on
