@@ -38,7 +38,8 @@ speed).
 
 Levels (deck overrides of every wheelset or of &solver, as the fidelity map's): Manchester
 vehicle (profile contact, quasi-static normal contact): tables with linear+SHE, Polach and
-FASTSIM (smooth clip), online strips at 0.2 and 0.1 mm with FASTSIM, tables with elastic normal
+FASTSIM (smooth clip), online strips at 0.2 and 0.1 mm with FASTSIM and at 0.2 mm with the
+energy-consistent strip force (strip_normal_force = potential), tables with elastic normal
 contact, and on tables-FASTSIM the integrators Adams, erk and rk4 (1e-4 s). TGV 001 with
 S1002/60E1 (elastic normal contact): the same contact and law levels, and tables with
 quasi-static normal contact. TGV 001 knife edge: linear, Polach, FASTSIM and on Polach the
@@ -108,6 +109,8 @@ POLACH = {"creep_law": "polach"}
 TABLE = {"contact_geometry": "table"}
 STRIPS = {"contact_geometry": "strips"}
 STRIPS_FINE = {"contact_geometry": "strips", "strip_spacing": 1.0e-4}
+#: the energy-consistent strip force (docs/theory_flange_chatter.md section 13)
+STRIPS_POTENTIAL = {"contact_geometry": "strips", "strip_normal_force": "potential"}
 
 
 @dataclass
@@ -231,6 +234,7 @@ def vehicles() -> list[Vehicle]:
     man = [Level("table linear+SHE", {**TABLE, **LINEAR_SHE}), Level("table polach", {**TABLE, **POLACH}),
            Level("table fastsim", {**TABLE, **FASTSIM}), Level("strips 0.2 mm fastsim", {**STRIPS, **FASTSIM}),
            Level("strips 0.1 mm fastsim", {**STRIPS_FINE, **FASTSIM}),
+           Level("strips 0.2 mm fastsim potential", {**STRIPS_POTENTIAL, **FASTSIM}),
            Level("table fastsim elastic", {**TABLE, **FASTSIM, "normal_contact": "elastic"}, {"max_order": 0}),
            Level("table fastsim, adams", {**TABLE, **FASTSIM}, {"method": "adams", "max_order": 0}),
            Level("table fastsim, erk", {**TABLE, **FASTSIM}, {"method": "erk"}),
@@ -238,6 +242,7 @@ def vehicles() -> list[Vehicle]:
     tgvp = [Level("table linear+SHE", {**TABLE, **LINEAR_SHE}), Level("table polach", {**TABLE, **POLACH}),
             Level("table fastsim", {**TABLE, **FASTSIM}), Level("strips 0.2 mm fastsim", {**STRIPS, **FASTSIM}),
             Level("strips 0.1 mm fastsim", {**STRIPS_FINE, **FASTSIM}),
+            Level("strips 0.2 mm fastsim potential", {**STRIPS_POTENTIAL, **FASTSIM}),
             Level("table fastsim quasi-static", {**TABLE, **FASTSIM, "normal_contact": "quasi_static"})]
     knife = [Level("knife edge linear", {"creep_law": "linear"}, not_for={**FRICTION_SCENES, **DEFICIENCY_SCENES}),
              Level("knife edge polach", POLACH, not_for={"flange_climb": FRICTION_SCENES["flange_climb"]}),

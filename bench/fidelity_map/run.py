@@ -131,12 +131,17 @@ def scene_list():
                   f"{TABLE}, {FASTSIM}, normal_contact = 'elastic'", "max_order = 0"),
             Level("strips 0.2 mm fastsim elastic", "strips 0.2 mm", "fastsim", "elastic", "bdf",
                   f"{STRIPS}, {FASTSIM}, normal_contact = 'elastic'", "max_order = 0"),
+            # the energy-consistent strip force (docs/theory_flange_chatter.md section 13)
+            Level("strips 0.2 mm fastsim potential", "strips 0.2 mm", "fastsim", qs, "bdf",
+                  f"{STRIPS}, {FASTSIM}, strip_normal_force = 'potential'"),
             Level("reference", "strips 0.1 mm", "fastsim", qs, "bdf rtol 1e-7",
                   f"{STRIPS_FINE}, {FASTSIM}", REFERENCE_SOLVER, reference=True)]
     tgv = grid([("table", TABLE), ("strips 0.2 mm", STRIPS), ("strips 0.1 mm", STRIPS_FINE)],
                list(LAWS), "elastic")
     tgv += [Level("table fastsim quasi-static", "table", "fastsim", qs, "bdf",
                   f"{TABLE}, {FASTSIM}, normal_contact = 'quasi_static'"),
+            Level("strips 0.2 mm fastsim potential", "strips 0.2 mm", "fastsim", "elastic", "bdf",
+                  f"{STRIPS}, {FASTSIM}, strip_normal_force = 'potential'"),
             Level("reference", "strips 0.1 mm", "fastsim", "elastic", "bdf rtol 1e-7",
                   f"{STRIPS_FINE}, {FASTSIM}", REFERENCE_SOLVER, reference=True)]
     knife = [Level(f"knife edge {law}", "knife edge", law, "elastic", "bdf", setting)
