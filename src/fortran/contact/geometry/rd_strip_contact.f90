@@ -25,6 +25,9 @@ module rd_strip_contact
   real(wp), parameter :: flange_angle = 0.3_wp   !< |contact angle| from which a patch is a flange patch
   real(wp), parameter :: coarse_gap = 5.0e-4_wp  !< strips farther than this from touching are interpolated [m]
   real(wp), parameter :: virtual_eps = 0.55_wp   !< virtual penetration factor (Kik-Piotrowski: 0.55; see theory doc)
+  !> region factor of the energy-consistent force's effective penetration (rd_strip_potential):
+  !> 0.2-0.4 kept the friction-0.6 Manchester deck quiet in the first variant, 0.55 did not
+  !> (docs/theory_flange_chatter.md section 13)
   real(wp), parameter :: potential_eps = 0.3_wp
 
 contains

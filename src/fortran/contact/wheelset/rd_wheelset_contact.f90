@@ -567,7 +567,7 @@ contains
     real(wp), intent(in) :: n_bump      !< the Hertz force of the bump at E (share 1)
     real(wp), intent(out) :: fn(3), mn(3)
     type(hertz_patch_t) :: hp
-    real(wp) :: curv(4), cp(4), e, h, dn_da, dn_db, grad(6)
+    real(wp) :: curv(4), cp(4), e, h, dn_droll, dn_dlat, grad(6)
     fn = nf * p%force_dir
     mn = nf * p%force_moment
     e = p%penetration / p%share**(2.0_wp / 3)
@@ -580,12 +580,12 @@ contains
     h = 1.0e-6_wp * (abs(curv(1)) + abs(curv(3)) + 1)
     cp = curv; cp(1) = curv(1) + h
     call hertz_from_penetration(m%hertz, cp, e, hp)
-    dn_da = (hp%normal_force - n_bump) / h
+    dn_droll = (hp%normal_force - n_bump) / h
     h = 1.0e-6_wp * (abs(curv(2)) + abs(curv(4)) + 1)
     cp = curv; cp(2) = curv(2) + h
     call hertz_from_penetration(m%hertz, cp, e, hp)
-    dn_db = (hp%normal_force - n_bump) / h
-    grad = p%share * (dn_da * p%curv_grad(:, 1) + dn_db * (p%curv_grad(:, 2) + p%curv_grad(:, 3))) &
+    dn_dlat = (hp%normal_force - n_bump) / h
+    grad = p%share * (dn_droll * p%curv_grad(:, 1) + dn_dlat * (p%curv_grad(:, 2) + p%curv_grad(:, 3))) &
            + n_bump * p%share_grad
     ! the share term: U = share U_bump, U_bump = (2/5) N_bump E
     fn = fn - 0.4_wp * e * grad(1:3)
