@@ -5,7 +5,7 @@ module rd_contact_patch
   use rd_kinds, only: wp
   implicit none
   private
-  public :: patch_geometry_t, wheel_contact_t, MAX_PATCHES
+  public :: patch_geometry_t, patch_potential_t, wheel_contact_t, MAX_PATCHES
   public :: PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK, PATCH_FLANGE_SPRING
   public :: mirror_wheel_contact
 
@@ -43,27 +43,34 @@ module rd_contact_patch
     !> this fraction of the forces of the bump it describes; its penetration is
     !> share^(2/3) times the bump's (so that Hertz gives share times the bump's normal force).
     real(wp) :: share = 1
-    !> Energy-consistent strip normal force (rd_strip_potential, `strip_normal_force =
-    !> 'potential'`): the normal force acts along `force_dir` (track frame, |force_dir| ~ 1,
-    !> minus the gradient of the effective penetration with respect to the wheel's
-    !> displacement) instead of `normal`; the contact frame of the creep forces stays `normal`.
-    logical :: potential_force = .false.
+  end type patch_geometry_t
+
+  !> What the energy-consistent strip normal force (rd_strip_potential, `strip_normal_force =
+  !> 'potential'`) adds to a patch: the normal force acts along `force_dir` (track frame,
+  !> |force_dir| ~ 1, minus the gradient of the effective penetration with respect to the
+  !> wheel's displacement) on its own line of action instead of along `normal` at the
+  !> patch point; the contact frame of the creep forces stays `normal`. Kept apart from
+  !> patch_geometry_t so that the other contact models do not carry (and copy) it.
+  type :: patch_potential_t
     real(wp) :: force_dir(3) = [0.0_wp, 0.0_wp, 1.0_wp]
     !> its moment about the wheelset centre per unit normal force, sum c_i p_i x g_i
-    !> (intermediate frame): the force's own line of action, not the centroid's
+    !> (intermediate frame)
     real(wp) :: force_moment(3) = 0
     !> gradients of the Hertz curvatures (wheel rolling, wheel lateral, rail lateral) with
     !> respect to the wheel's translation (1:3, track frame) and rotation (4:6, intermediate
     !> frame): the Hertz constant's part of the potential's gradient
     real(wp) :: curv_grad(6, 3) = 0
-    !> gradient of `share` (same frames as curv_grad): a blended patch's potential is
-    !> share times its bump's, whose gradient has the term U_bump grad(share)
+    !> gradient of the patch's `share` (same frames): a blended patch's potential is share
+    !> times its bump's, whose gradient has the term U_bump grad(share)
     real(wp) :: share_grad(6) = 0
-  end type patch_geometry_t
+  end type patch_potential_t
 
   type :: wheel_contact_t
     integer :: n_patches = 0
     type(patch_geometry_t) :: patch(MAX_PATCHES)
+    !> allocated (MAX_PATCHES, slot by slot with `patch`) only by the energy-consistent
+    !> strip force
+    type(patch_potential_t), allocatable :: potential(:)
     !> largest signed penetration over all strips [m]: < 0 is minus the smallest gap
     !> (used by the rigid-contact search); equals the deepest patch's penetration in contact.
     real(wp) :: max_penetration = -huge(1.0_wp)
@@ -80,16 +87,20 @@ contains
       res%patch(i)%point_rail(2) = -res%patch(i)%point_rail(2)
       res%patch(i)%point_wheel(2) = -res%patch(i)%point_wheel(2)
       res%patch(i)%normal(2) = -res%patch(i)%normal(2)
-      res%patch(i)%force_dir(2) = -res%patch(i)%force_dir(2)
-      ! a moment is a pseudo-vector: under Y -> -Y it maps to (-Mx, My, -Mz)
-      res%patch(i)%force_moment(1) = -res%patch(i)%force_moment(1)
-      res%patch(i)%force_moment(3) = -res%patch(i)%force_moment(3)
-      res%patch(i)%curv_grad(2, :) = -res%patch(i)%curv_grad(2, :)
-      res%patch(i)%curv_grad(4, :) = -res%patch(i)%curv_grad(4, :)
-      res%patch(i)%curv_grad(6, :) = -res%patch(i)%curv_grad(6, :)
-      res%patch(i)%share_grad(2) = -res%patch(i)%share_grad(2)
-      res%patch(i)%share_grad(4) = -res%patch(i)%share_grad(4)
-      res%patch(i)%share_grad(6) = -res%patch(i)%share_grad(6)
+      if (allocated(res%potential)) then
+        associate (q => res%potential(i))
+          q%force_dir(2) = -q%force_dir(2)
+          ! a moment is a pseudo-vector: under Y -> -Y it maps to (-Mx, My, -Mz)
+          q%force_moment(1) = -q%force_moment(1)
+          q%force_moment(3) = -q%force_moment(3)
+          q%curv_grad(2, :) = -q%curv_grad(2, :)
+          q%curv_grad(4, :) = -q%curv_grad(4, :)
+          q%curv_grad(6, :) = -q%curv_grad(6, :)
+          q%share_grad(2) = -q%share_grad(2)
+          q%share_grad(4) = -q%share_grad(4)
+          q%share_grad(6) = -q%share_grad(6)
+        end associate
+      end if
       res%patch(i)%contact_angle = -res%patch(i)%contact_angle
     end do
   end subroutine mirror_wheel_contact

@@ -13,7 +13,7 @@ module rd_strip_contact
   use rd_kinds, only: wp
   use rd_rotation, only: cross
   use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t, locate
-  use rd_contact_patch, only: patch_geometry_t, wheel_contact_t, MAX_PATCHES, &
+  use rd_contact_patch, only: patch_geometry_t, patch_potential_t, wheel_contact_t, MAX_PATCHES, &
     PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
   use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
   use rd_strip_potential, only: effective_penetration, strip_force_direction, region_mean, wheel_point_curvatures, &
@@ -58,6 +58,7 @@ contains
     if (present(exhaustive)) full_search = exhaustive
     use_potential = .false.
     if (present(potential)) use_potential = potential
+    if (use_potential) allocate (res%potential(MAX_PATCHES))
     jprev = 1
     cp = cos(phi); sp = sin(phi); cs = cos(psi); ss = sin(psi)
     ! B^T for B = R_z(psi) R_x(phi): rows are B's columns
@@ -169,7 +170,7 @@ contains
       end do
       i2 = i
       i = i + 1
-      call split_run(i1, i2, np, res%patch)
+      call split_run(i1, i2, np, res%patch, res%potential)
     end do
     res%n_patches = np
 
@@ -189,10 +190,12 @@ contains
     !> is below both bumps' centroid thresholds (1 - eps) d, so the valley strip contributes
     !> nothing to either centroid and moving the split from one strip to the next is smooth.
     !> Continuous except where two valleys of one run tie while both split (rare).
-    pure subroutine split_run(i1, i2, np, patch)
+    pure subroutine split_run(i1, i2, np, patch, pot)
       integer, intent(in) :: i1, i2
       integer, intent(inout) :: np
       type(patch_geometry_t), intent(inout) :: patch(:)
+      !> the patches' potential data (allocated with the energy-consistent force only)
+      type(patch_potential_t), allocatable, intent(inout) :: pot(:)
       integer, parameter :: stack_size = 32
       integer :: lo(stack_size), hi(stack_size), top, a, b, kv, k, kc, klo
       real(wp) :: share(stack_size), wn, v, pmax, lambda, x, dlo, dlam(6), gshare(6, stack_size), gw(6)
@@ -242,7 +245,7 @@ contains
           if (use_potential .and. x > 0 .and. x < 1) &
             dlam = 6 * x * (1 - x) * (strip_wrench(kv) - (v / dlo) * strip_wrench(klo)) / ((1 - virtual_eps) * dlo)
         end if
-        if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, np, patch, (1 - lambda) * gw - wn * dlam)
+        if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, np, patch, pot, (1 - lambda) * gw - wn * dlam)
         if (lambda > 0) then
           top = top + 1
           lo(top) = a; hi(top) = kv; share(top) = wn * lambda; gshare(:, top) = lambda * gw + wn * dlam
@@ -253,7 +256,7 @@ contains
     end subroutine split_run
 
     !> One patch over the stretch a..b (peak strip kc) of the run r1..r2 with force share wn.
-    pure subroutine add_patch(a, b, kc, wn, r1, r2, np, patch, gwn)
+    pure subroutine add_patch(a, b, kc, wn, r1, r2, np, patch, pot, gwn)
       integer, intent(in) :: a, b, kc, r1, r2
       real(wp), intent(in) :: wn
       !> gradient of the share wn with respect to the wheel's translation and rotation
@@ -261,6 +264,7 @@ contains
       real(wp), intent(in) :: gwn(6)
       integer, intent(inout) :: np
       type(patch_geometry_t), intent(inout) :: patch(:)
+      type(patch_potential_t), allocatable, intent(inout) :: pot(:)
       real(wp) :: pen, e, f(3), fm(3), curv(3), cgrad(6, 3)
       integer :: iw
       if (use_potential) then
@@ -279,16 +283,17 @@ contains
       call fill_patch(patch(iw), a, b, kc, pen, r1, r2)
       patch(iw)%share = wn
       if (use_potential) then
-        patch(iw)%potential_force = .true.
-        patch(iw)%force_dir = matmul(f, bt)          ! B f: intermediate -> track frame
-        patch(iw)%force_moment = fm
         patch(iw)%curv_wheel_roll = curv(1)
         patch(iw)%curv_wheel_lat = curv(2)
         patch(iw)%curv_rail_lat = curv(3)
-        patch(iw)%curv_grad(4:6, :) = cgrad(4:6, :)
-        patch(iw)%curv_grad(1:3, :) = matmul(transpose(bt), cgrad(1:3, :))
-        patch(iw)%share_grad(4:6) = gwn(4:6)
-        patch(iw)%share_grad(1:3) = matmul(transpose(bt), gwn(1:3))
+        associate (q => pot(iw))
+          q%force_dir = matmul(f, bt)          ! B f: intermediate -> track frame
+          q%force_moment = fm
+          q%curv_grad(4:6, :) = cgrad(4:6, :)
+          q%curv_grad(1:3, :) = matmul(transpose(bt), cgrad(1:3, :))
+          q%share_grad(4:6) = gwn(4:6)
+          q%share_grad(1:3) = matmul(transpose(bt), gwn(1:3))
+        end associate
       end if
     end subroutine add_patch
 

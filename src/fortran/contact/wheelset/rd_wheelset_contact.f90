@@ -29,7 +29,7 @@ module rd_wheelset_contact
   use rd_rotation, only: cross
   use rd_body_kinematics, only: body_kinematics_t
   use rd_force_provider, only: force_provider_t, body_load_t
-  use rd_contact_patch, only: patch_geometry_t, wheel_contact_t, PATCH_FLANGE_SPRING
+  use rd_contact_patch, only: patch_geometry_t, patch_potential_t, wheel_contact_t, PATCH_FLANGE_SPRING
   use rd_contact_geometry, only: contact_geometry_t, wheelset_contact, CONTACT_MODEL_STRIP, CONTACT_MODEL_TABLE, &
     SIDE_LEFT, SIDE_RIGHT
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration, hertz_damped_force
@@ -512,11 +512,11 @@ contains
         end if
         ! forces on the wheel (thesis 4.90 in contact components, 4.96 spin couple); the
         ! energy-consistent strip force acts along its own direction (rd_strip_potential)
-        if (p%potential_force) then
+        if (allocated(wc%potential)) then
           ! the normal force on its own line of action (moment about the CG, whose
           ! intermediate frame is the geometry's) with the Hertz constant's gradient term,
           ! the creep forces at the patch point (rd_strip_potential)
-          call potential_normal_wrench(m, p, nf, hp%normal_force, fn, mn)
+          call potential_normal_wrench(m, p, wc%potential(k), nf, hp%normal_force, fn, mn)
           f = cf%fx * xc + cf%fy * yc
           mw = mw + cross(r_c, f) + cf%mz * n + matmul(kin%rot_attach, mn)
           f = f + matmul(a, fn)
@@ -560,16 +560,17 @@ contains
   !>    N (-grad E) - (2/5) E [share sum_j (dN_bump / d kappa_j) grad kappa_j + N_bump grad share],
   !> with dN/dkappa_j at fixed E by central differences of the Hertz model (its tables are
   !> C1). fn: force (track frame), mn: moment about the wheelset centre (intermediate frame).
-  subroutine potential_normal_wrench(m, p, nf, n_bump, fn, mn)
+  subroutine potential_normal_wrench(m, p, q, nf, n_bump, fn, mn)
     type(wheelset_model_t), intent(in) :: m
     type(patch_geometry_t), intent(in) :: p
+    type(patch_potential_t), intent(in) :: q
     real(wp), intent(in) :: nf
     real(wp), intent(in) :: n_bump      !< the Hertz force of the bump at E (share 1)
     real(wp), intent(out) :: fn(3), mn(3)
     type(hertz_patch_t) :: hp
     real(wp) :: curv(4), cp(4), e, h, dn_droll, dn_dlat, grad(6)
-    fn = nf * p%force_dir
-    mn = nf * p%force_moment
+    fn = nf * q%force_dir
+    mn = nf * q%force_moment
     e = p%penetration / p%share**(2.0_wp / 3)
     if (.not. (e > 0)) return
     curv = [p%curv_wheel_roll, p%curv_wheel_lat, p%curv_rail_roll, p%curv_rail_lat]
@@ -585,8 +586,8 @@ contains
     cp = curv; cp(2) = curv(2) + h
     call hertz_from_penetration(m%hertz, cp, e, hp)
     dn_dlat = (hp%normal_force - n_bump) / h
-    grad = p%share * (dn_droll * p%curv_grad(:, 1) + dn_dlat * (p%curv_grad(:, 2) + p%curv_grad(:, 3))) &
-           + n_bump * p%share_grad
+    grad = p%share * (dn_droll * q%curv_grad(:, 1) + dn_dlat * (q%curv_grad(:, 2) + q%curv_grad(:, 3))) &
+           + n_bump * q%share_grad
     ! the share term: U = share U_bump, U_bump = (2/5) N_bump E
     fn = fn - 0.4_wp * e * grad(1:3)
     mn = mn - 0.4_wp * e * grad(4:6)

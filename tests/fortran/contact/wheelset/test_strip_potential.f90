@@ -50,14 +50,14 @@ program test_strip_potential
     write (*, '(a,2i3)') 'FAIL  cone on circle: expected one patch each, got ', res%n_patches, res_c%n_patches
     call fail()
   else
-    write (*, '(a,3f10.6,a,2es12.4)') '      cone on circle: force direction ', res%patch(1)%force_dir, &
+    write (*, '(a,3f10.6,a,2es12.4)') '      cone on circle: force direction ', res%potential(1)%force_dir, &
       ', E, refined peak ', res%patch(1)%penetration, res_c%patch(1)%penetration
     call check_value('cone on circle: E / refined peak - 1', res%patch(1)%penetration / res_c%patch(1)%penetration - 1, &
                1.0e-2_wp)
-    call check_value('cone on circle: |force direction - cone normal|', norm2(res%patch(1)%force_dir - &
+    call check_value('cone on circle: |force direction - cone normal|', norm2(res%potential(1)%force_dir - &
                [0.0_wp, -0.05_wp, 1.0_wp] / sqrt(1 + 0.05_wp**2)), 1.0e-3_wp)
-    if (.not. res%patch(1)%potential_force .or. res_c%patch(1)%potential_force) then
-      write (*, '(a)') 'FAIL  potential_force flags not set as selected'
+    if (.not. allocated(res%potential) .or. allocated(res_c%potential)) then
+      write (*, '(a)') 'FAIL  the potential data not present as selected'
       call fail()
     end if
   end if
@@ -108,8 +108,8 @@ contains
     if (np == 0) return
     k = maxloc(r%patch(1:np)%penetration, dim=1)
     e = r%patch(k)%penetration
-    f = r%patch(k)%force_dir
-    if (.not. r%patch(k)%potential_force) f = r%patch(k)%normal
+    f = r%patch(k)%normal
+    if (allocated(r%potential)) f = r%potential(k)%force_dir
   end subroutine patch_of
 
   !> Finite differences of E and of the three Hertz curvatures of the deepest patch with
@@ -128,13 +128,13 @@ contains
     q0 = [y0, zz, ph, psi]
     call wheel_contact(geo, side, q0(1), q0(2), q0(3), q0(4), r)
     k = maxloc(r%patch(1:r%n_patches)%penetration, dim=1)
-    associate (p => r%patch(k))
+    associate (p => r%patch(k), q => r%potential(k))
       ! analytic derivatives d/d(Y, Z, roll, yaw) of (E, kappa_wheel_roll, kappa_wheel_lat, kappa_rail_lat)
-      an(1, :) = -[p%force_dir(2), p%force_dir(3), p%force_moment(1), &
-                   p%force_moment(2) * sin(ph) + p%force_moment(3) * cos(ph)]
+      an(1, :) = -[q%force_dir(2), q%force_dir(3), q%force_moment(1), &
+                   q%force_moment(2) * sin(ph) + q%force_moment(3) * cos(ph)]
       do v = 1, 3
-        an(v + 1, :) = [p%curv_grad(2, v), p%curv_grad(3, v), p%curv_grad(4, v), &
-                        p%curv_grad(5, v) * sin(ph) + p%curv_grad(6, v) * cos(ph)]
+        an(v + 1, :) = [q%curv_grad(2, v), q%curv_grad(3, v), q%curv_grad(4, v), &
+                        q%curv_grad(5, v) * sin(ph) + q%curv_grad(6, v) * cos(ph)]
       end do
       scale = [1.0_wp, abs(p%curv_wheel_roll) + 1, abs(p%curv_wheel_lat) + 1, abs(p%curv_rail_lat) + 1]
     end associate
