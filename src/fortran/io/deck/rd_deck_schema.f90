@@ -420,7 +420,8 @@ contains
       only_with(pstr('strip_normal_force', 'online strips: the normal force of a patch: centroid (the ' // &
              'refined peak penetration along the rail normal at the centroid of the virtual-penetration ' // &
              'region) or potential (an effective penetration and its gradient: a conservative force field; ' // &
-             'experimental: several times the CPU, open questions at flange climb and past the critical speed; ' // &
+             'experimental: several times the CPU; its direction can leave the surface normals at conformal ' // &
+             'flange contact (not for derailment studies); ' // &
              'docs/theory_flange_chatter.md section 13)', default='centroid', allowed='centroid|potential'), &
                 'contact_geometry', 'strips'), &
       only_with(preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift (the build ' // &
