@@ -229,21 +229,22 @@ contains
         lambda = 0
         dlam = 0
         if (kv > 0 .and. top + 2 <= stack_size) then
-          ! the lower of the two peaks (strip klo)
-          if (maxval(delta(a:kv)) <= maxval(delta(kv:b))) then
-            klo = a - 1 + maxloc(delta(a:kv), dim=1)
-          else
-            klo = kv - 1 + maxloc(delta(kv:b), dim=1)
-          end if
-          dlo = delta(klo)
+          dlo = min(maxval(delta(a:kv)), maxval(delta(kv:b)))      ! the lower of the two peaks
           x = 1 - v / ((1 - virtual_eps) * dlo)
           x = min(max(x, 0.0_wp), 1.0_wp)
           ! C1 ramp (smoothstep): the linear ramp's slope jumped where the split starts/ends
           lambda = x * x * (3 - 2 * x)
           ! its pose gradient (potential patches, the share term of rd_strip_potential):
-          ! dx = (-d v + (v / dlo) d dlo) / ((1 - eps) dlo), d delta_i = -G_i d pose
-          if (use_potential .and. x > 0 .and. x < 1) &
+          ! dx = (-d v + (v / dlo) d dlo) / ((1 - eps) dlo), d delta_i = -G_i d pose, with
+          ! klo the lower peak's strip
+          if (use_potential .and. x > 0 .and. x < 1) then
+            if (maxval(delta(a:kv)) <= maxval(delta(kv:b))) then
+              klo = a - 1 + maxloc(delta(a:kv), dim=1)
+            else
+              klo = kv - 1 + maxloc(delta(kv:b), dim=1)
+            end if
             dlam = 6 * x * (1 - x) * (strip_wrench(kv) - (v / dlo) * strip_wrench(klo)) / ((1 - virtual_eps) * dlo)
+          end if
         end if
         if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, np, patch, pot, (1 - lambda) * gw - wn * dlam)
         if (lambda > 0) then
@@ -268,7 +269,7 @@ contains
       real(wp) :: pen, e, f(3), fm(3), curv(3), cgrad(6, 3)
       integer :: iw
       if (use_potential) then
-        call potential_of_stretch(a, b, e, f, fm, curv, cgrad)
+        call potential_of_stretch(a, b, kc, e, f, fm, curv, cgrad)
         pen = wn**(2.0_wp / 3.0_wp) * e
       else
         pen = wn**(2.0_wp / 3.0_wp) * refined_peak(delta, kc, ilo, ihi)
@@ -304,8 +305,8 @@ contains
     !> lateral) and their gradients cgrad (translation 1:3, rotation 4:6). The patch's
     !> share enters only its magnitude (the share's own gradient, section 6's "share
     !> term", is not included).
-    pure subroutine potential_of_stretch(a, b, e, f, fm, curv, cgrad)
-      integer, intent(in) :: a, b
+    pure subroutine potential_of_stretch(a, b, kc, e, f, fm, curv, cgrad)
+      integer, intent(in) :: a, b, kc
       real(wp), intent(out) :: e, f(3), fm(3), curv(3), cgrad(6, 3)
       real(wp) :: c(a:b), g(6, a:b), v(a:b, 3), dv(a:b, 3), dmean(a:b, 3), wn(a:b), gpy(6, a:b), pp(3), x, t, &
                   dt(a:b)
@@ -331,7 +332,8 @@ contains
         f = f + c(kk) * g(1:3, kk)
         fm = fm + c(kk) * g(4:6, kk)
       end do
-      if (all(f == 0)) f = matmul(bt, [0.0_wp, rail%ny(kc_of(a, b)), rail%nz(kc_of(a, b))])
+      ! no penetrating strip (a patch opened by its refined peak alone): the rail normal
+      if (all(f == 0)) f = matmul(bt, [0.0_wp, rail%ny(kc), rail%nz(kc)])
       ! d kappa / d pose = sum dmean_i d delta_i / d pose + sum wn_i kappa_i' d py_i / d pose,
       ! d delta_i / d pose = -(g_i, p_i x g_i), d py_i / d pose = gpy_i
       call region_mean(delta(a:b), t, dt, v, curv, dmean, wn)
@@ -355,11 +357,6 @@ contains
                                       wheel%slope(j), wheel%slope(j + 1), wheel%cone_slope(j))
       gi(4:6) = cross(pw(:, i), gi(1:3))
     end function strip_wrench
-
-    pure integer function kc_of(a, b)
-      integer, intent(in) :: a, b
-      kc_of = a - 1 + maxloc(delta(a:b), dim=1)
-    end function kc_of
 
     !> Strips first, first + stride, ..., last (and last itself): strip_depths on this pose.
     pure subroutine evaluate_lines(first, last, stride, delta, tline, pw, jseg, jprev)
