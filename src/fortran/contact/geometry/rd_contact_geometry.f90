@@ -54,6 +54,8 @@ module rd_contact_geometry
     type(contact_table_t) :: table_right
     !> strip model: the energy-consistent normal force (rd_strip_potential)
     logical :: potential_normal = .false.
+    !> the distributed strip normal force (rd_hertz_strip; `strip_normal_force = 'distributed'`)
+    logical :: distributed_normal = .false.
   end type contact_geometry_t
 
 contains
@@ -196,16 +198,16 @@ contains
       ! the right side's own surfaces when given (flags fixed at build), else the shared left ones
       if (side == SIDE_LEFT .or. .not. (geo%own_wheel_right .or. geo%own_rail_right)) then
         call strip_wheel_contact(geo%wheel, geo%rail, sgn * y, z, sgn * phi, sgn * psi, res, &
-                                 potential=geo%potential_normal)
+                                 potential=geo%potential_normal, distributed=geo%distributed_normal)
       else if (geo%own_wheel_right .and. geo%own_rail_right) then
         call strip_wheel_contact(geo%wheel_right, geo%rail_right, sgn * y, z, sgn * phi, sgn * psi, res, &
-                                 potential=geo%potential_normal)
+                                 potential=geo%potential_normal, distributed=geo%distributed_normal)
       else if (geo%own_wheel_right) then
         call strip_wheel_contact(geo%wheel_right, geo%rail, sgn * y, z, sgn * phi, sgn * psi, res, &
-                                 potential=geo%potential_normal)
+                                 potential=geo%potential_normal, distributed=geo%distributed_normal)
       else
         call strip_wheel_contact(geo%wheel, geo%rail_right, sgn * y, z, sgn * phi, sgn * psi, res, &
-                                 potential=geo%potential_normal)
+                                 potential=geo%potential_normal, distributed=geo%distributed_normal)
       end if
     case (CONTACT_MODEL_KNIFE_EDGE)
       call knife_wheel_contact(geo%knife, sgn * y, z, sgn * phi, sgn * psi, res)

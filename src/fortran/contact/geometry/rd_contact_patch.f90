@@ -5,7 +5,7 @@ module rd_contact_patch
   use rd_kinds, only: wp
   implicit none
   private
-  public :: patch_geometry_t, patch_potential_t, wheel_contact_t, MAX_PATCHES
+  public :: patch_geometry_t, patch_potential_t, strip_normal_t, wheel_contact_t, MAX_PATCHES
   public :: PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK, PATCH_FLANGE_SPRING
   public :: mirror_wheel_contact
 
@@ -65,12 +65,27 @@ module rd_contact_patch
     real(wp) :: share_grad(6) = 0
   end type patch_potential_t
 
+  !> The distributed strip normal force of one wheel (`strip_normal_force = 'distributed'`,
+  !> rd_hertz_strip): the elastic energy U = sum_i w_i c_i delta_i^2 of every penetrating
+  !> strip and minus its gradient, all per unit E* (c_i = E* phi_i).
+  type :: strip_normal_t
+    real(wp) :: force(3) = 0     !< on the wheel, track frame [m^2 per unit E*: N / Pa]
+    real(wp) :: moment(3) = 0    !< about the wheelset centre, intermediate frame [m^3]
+    real(wp) :: energy = 0       !< U / E* [m^3]
+    !> each patch's share of the normal load, |force| per unit E* of its strips (slot by slot
+    !> with `patch`): the load its creep law and Hertz ellipse take
+    real(wp) :: patch_load(MAX_PATCHES) = 0
+  end type strip_normal_t
+
   type :: wheel_contact_t
     integer :: n_patches = 0
     type(patch_geometry_t) :: patch(MAX_PATCHES)
     !> allocated (MAX_PATCHES, slot by slot with `patch`) only by the energy-consistent
     !> strip force
     type(patch_potential_t), allocatable :: potential(:)
+    !> allocated only by the distributed strip normal force, which replaces the patches'
+    !> normal forces (they carry the creep forces only)
+    type(strip_normal_t), allocatable :: distributed
     !> largest signed penetration over all strips [m]: < 0 is minus the smallest gap
     !> (used by the rigid-contact search); equals the deepest patch's penetration in contact.
     real(wp) :: max_penetration = -huge(1.0_wp)
@@ -103,6 +118,12 @@ contains
       end if
       res%patch(i)%contact_angle = -res%patch(i)%contact_angle
     end do
+    if (allocated(res%distributed)) then
+      ! force (Fx, -Fy, Fz), moment (-Mx, My, -Mz)
+      res%distributed%force(2) = -res%distributed%force(2)
+      res%distributed%moment(1) = -res%distributed%moment(1)
+      res%distributed%moment(3) = -res%distributed%moment(3)
+    end if
   end subroutine mirror_wheel_contact
 
 end module rd_contact_patch

@@ -46,6 +46,9 @@ module rd_contact_surfaces
     !> here instead of once per rail line and cone in the strip search (hot path)
     real(wp), allocatable :: cone_slope(:)
     real(wp), allocatable :: kappa(:)   !< smoothed profile curvature [1/m], + convex
+    !> principal curvature in the rolling direction at the points, cos(gamma)/r =
+    !> 1 / (r sqrt(1 + slope^2)) (thesis eq. 4.75) [1/m]
+    real(wp), allocatable :: k_roll(:)
     real(wp) :: r_max = 0
     real(wp) :: nominal_radius = 0
     real(wp) :: y_tape = 0              !< lateral position of the tape circle [m]
@@ -58,6 +61,8 @@ module rd_contact_surfaces
     real(wp), allocatable :: y(:), z(:) !< track frame [m], y increasing
     real(wp), allocatable :: ny(:), nz(:) !< unit normal out of the rail (track frame)
     real(wp), allocatable :: kappa(:)   !< smoothed profile curvature [1/m], + convex
+    !> rail arc length each strip stands for: half its distances to its neighbours [m]
+    real(wp), allocatable :: width(:)
     real(wp) :: y_gauge_point = 0       !< Y of the gauge point (= gauge / 2)
     real(wp) :: u_gauge_point = 0       !< its rail profile coordinate
     integer :: coarse_stride = 1        !< strips per coarse step of the search (1.6 mm apart)
@@ -102,6 +107,7 @@ contains
       wheel%slope(i) = (wheel%r(min(i + 1, n)) - wheel%r(max(i - 1, 1))) / &
                        (wheel%y(min(i + 1, n)) - wheel%y(max(i - 1, 1)))
     end do
+    wheel%k_roll = 1 / (wheel%r * sqrt(1 + wheel%slope**2))
     allocate (wheel%cone_slope(n - 1))
     do i = 1, n - 1
       wheel%cone_slope(i) = (wheel%r(i + 1) - wheel%r(i)) / (wheel%y(i + 1) - wheel%y(i))
@@ -182,7 +188,13 @@ contains
     rail%y_gauge_point = 0.5_wp * placement%gauge
     rail%coarse_stride = max(1, min(8, int(1.6e-3_wp / options%rail_spacing + 1.0e-9_wp)))
     rail%u_gauge_point = ugp
-    allocate (rail%ny(m), rail%nz(m))
+    allocate (rail%ny(m), rail%nz(m), rail%width(m))
+    rail%width = 0
+    do i = 1, m - 1
+      tn = 0.5_wp * hypot(rail%y(i + 1) - rail%y(i), rail%z(i + 1) - rail%z(i))
+      rail%width(i) = rail%width(i) + tn
+      rail%width(i + 1) = rail%width(i + 1) + tn
+    end do
     do i = 1, m
       t1 = rail%y(min(i + 1, m)) - rail%y(max(i - 1, 1))
       t2 = rail%z(min(i + 1, m)) - rail%z(max(i - 1, 1))

@@ -13,11 +13,12 @@ module rd_strip_contact
   use rd_kinds, only: wp
   use rd_rotation, only: cross
   use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t, locate
-  use rd_contact_patch, only: patch_geometry_t, patch_potential_t, wheel_contact_t, MAX_PATCHES, &
+  use rd_contact_patch, only: patch_geometry_t, patch_potential_t, strip_normal_t, wheel_contact_t, MAX_PATCHES, &
     PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
   use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
+  use rd_hertz_strip, only: strip_stiffness, strip_depth_energy
   use rd_strip_potential, only: effective_penetration, strip_force_direction, region_mean, wheel_point_curvatures, &
-    deepest_point_py_gradient
+    deepest_point_py_gradient, smooth_strip_depth
   implicit none
   private
   public :: strip_wheel_contact
@@ -35,7 +36,7 @@ contains
   !> Contact of the left wheel with the left rail for the wheelset pose relative to the
   !> track frame: lateral y, vertical z of the wheelset centre, roll phi, yaw psi
   !> (B = R_z(psi) R_x(phi), docs/conventions.md).
-  pure subroutine strip_wheel_contact(wheel, rail, y, z, phi, psi, res, exhaustive, potential)
+  pure subroutine strip_wheel_contact(wheel, rail, y, z, phi, psi, res, exhaustive, potential, distributed)
     type(wheel_surface_t), intent(in) :: wheel
     type(rail_surface_t), intent(in) :: rail
     real(wp), intent(in) :: y, z, phi, psi
@@ -45,7 +46,11 @@ contains
     !> the energy-consistent normal force (rd_strip_potential) instead of the refined peak
     !> along the centroid's normal
     logical, intent(in), optional :: potential
-    logical :: full_search, use_potential
+    !> the distributed strip normal force (rd_hertz_strip): res%distributed
+    logical, intent(in), optional :: distributed
+    logical :: full_search, use_potential, use_distributed
+    !> distributed force: each strip's normal load per unit E*, w_i phi_i s'(delta_i)
+    real(wp), allocatable :: sload(:)
     integer :: jprev
     real(wp) :: delta(rail%n), tline(rail%n), pw(3, rail%n)
     integer :: jseg(rail%n)
@@ -59,6 +64,9 @@ contains
     use_potential = .false.
     if (present(potential)) use_potential = potential
     if (use_potential) allocate (res%potential(MAX_PATCHES))
+    use_distributed = .false.
+    if (present(distributed)) use_distributed = distributed
+    if (use_distributed) allocate (res%distributed)
     jprev = 1
     cp = cos(phi); sp = sin(phi); cs = cos(psi); ss = sin(psi)
     ! B^T for B = R_z(psi) R_x(phi): rows are B's columns
@@ -156,6 +164,11 @@ contains
     ! patch vanished with its full force) and one patch per bump makes it jump when a bump
     ! fades into the flank of another. split_run blends the two descriptions continuously
     ! (docs/theory_contact_geometry.md, "Bumps within one run").
+    ! the distributed normal force first: the patches take their loads from its strips
+    if (use_distributed) then
+      allocate (sload(ilo:ihi))
+      call distributed_force(ifirst, ilast, sload, res%distributed)
+    end if
     i = ifirst
     np = 0
     do while (i <= ilast)
@@ -170,11 +183,92 @@ contains
       end do
       i2 = i
       i = i + 1
-      call split_run(i1, i2, np, res%patch, res%potential)
+      call split_run(i1, i2, np, res%patch, res%potential, res%distributed)
     end do
     res%n_patches = np
 
   contains
+
+    !> The distributed strip normal force (rd_hertz_strip; docs/theory_flange_chatter.md
+    !> section 14): U = sum_i w_i c_i s(delta_i) over the penetrating strips (delta_i the
+    !> strip's depth into the smooth wheel, rd_strip_potential smooth_strip_depth; w_i the
+    !> rail arc length a strip stands for; c_i = E* phi(A_i, B_i) from the curvatures at its
+    !> deepest point: the wheel's rolling and lateral curvature there, the rail's lateral one
+    !> at the strip). Minus its gradient, per unit
+    !> E*: sum_i w_i (phi_i s'(delta_i) G_i - s(delta_i) grad phi_i) with s(delta) = delta^2
+    !> eased in at the onset (rd_hertz_strip strip_depth_energy), G_i = (g_i, p_i x g_i) the
+    !> strip's depth gradient (rd_strip_potential) and grad phi_i through the deepest
+    !> point's lateral position (its shift included). Force in the track frame, moment
+    !> about the wheelset centre in the intermediate frame.
+    pure subroutine distributed_force(i1, i2, sload, sn)
+      integer, intent(in) :: i1, i2
+      !> each strip's load per unit E*, w_i phi_i s'(delta_i) (0 off contact)
+      real(wp), intent(inout) :: sload(ilo:)
+      type(strip_normal_t), intent(inout) :: sn
+      real(wp) :: f(3), m(3), g(3), pp(3), gpy(6), gphi(6), k_roll, k_lat, dk_roll, dk_lat, ph, dph_da, dph_db, &
+                  w, x, dl, sd, dsd
+      integer :: i, j
+      f = 0; m = 0; sn%energy = 0
+      sload = 0
+      if (i1 < ilo) return               ! no strip in contact (i1 = 0)
+      ! two strips beyond the cones' contact region on either side: the smooth wheel reaches
+      ! up to ~h^2 / (8 R) (0.3 um) further than the cones (and its strips are evaluated)
+      do i = max(i1 - 2, ilo), min(i2 + 2, ihi)
+        if (.not. (delta(i) > -1.0e-5_wp)) cycle
+        j = jseg(i)
+        pp = pw(:, i)
+        call smooth_strip_depth(pp, delta(i), j, wheel%y, wheel%r, wheel%slope, dl, g)
+        if (.not. (dl > 0)) cycle
+        call wheel_point_curvatures(pp(2), j, wheel%y, wheel%k_roll, wheel%kappa, k_roll, k_lat, &
+                                    dk_roll, dk_lat)
+        ! half sums of the two bodies' curvatures (the straight rail has no rolling one)
+        call strip_stiffness(0.5_wp * k_roll, 0.5_wp * (k_lat + rail%kappa(i)), ph, dph_da, dph_db)
+        x = (pp(2) - wheel%y(j)) / (wheel%y(j + 1) - wheel%y(j))
+        gpy = deepest_point_py_gradient(pp, d, wheel%cone_slope(j), x > 1.0e-9_wp .and. x < 1 - 1.0e-9_wp)
+        gphi = 0.5_wp * (dph_da * dk_roll + dph_db * dk_lat) * gpy
+        w = rail%width(i)
+        ! s(delta) = delta^2 eased in over the first micrometre (rd_hertz_strip)
+        call strip_depth_energy(dl, sd, dsd)
+        sload(i) = w * ph * dsd
+        sn%energy = sn%energy + w * ph * sd
+        ! (p x g written out: the module function is not inlined across modules)
+        f = f + sload(i) * g - (w * sd) * gphi(1:3)
+        m = m + sload(i) * [pp(2) * g(3) - pp(3) * g(2), pp(3) * g(1) - pp(1) * g(3), pp(1) * g(2) - pp(2) * g(1)] &
+            - (w * sd) * gphi(4:6)
+      end do
+      sn%force = matmul(f, bt)            ! B f: intermediate -> track frame
+      sn%moment = m
+    end subroutine distributed_force
+
+    !> The distributed normal load of the stretch a..b (per unit E*) between its bounds xl,
+    !> xh: each strip i stands for [i - 1/2, i + 1/2] with a uniform load, and a stretch
+    !> bounded by a refined valley position takes the part of its strip up to that position
+    !> (frac). The blended patches' loads (share times this) then add up to the strips' total,
+    !> (1 - lambda) S_ab + lambda (S_a..xv + S_xv..b) = S_ab, and do not jump where the
+    !> lowest valley strip changes (the refined valley moves continuously).
+    pure real(wp) function stretch_load(a, b, xl, xh) result(s)
+      integer, intent(in) :: a, b
+      real(wp), intent(in) :: xl, xh
+      integer :: i
+      s = 0
+      do i = a, b
+        s = s + frac(i, xl, xh) * sload(i)
+      end do
+    end function stretch_load
+
+    !> Refined position of valley strip kv (interior of its stretch) relative to kv.
+    pure real(wp) function valley_offset(kv) result(x)
+      integer, intent(in) :: kv
+      x = valley_offset_of(delta, kv)
+    end function valley_offset
+
+    !> Part of strip i's interval [i - 1/2, i + 1/2] inside [xl, xh].
+    pure real(wp) function frac(i, xl, xh) result(f)
+      integer, intent(in) :: i
+      real(wp), intent(in) :: xl, xh
+      f = max(0.0_wp, min(i + 0.5_wp, xh) - max(i - 0.5_wp, xl))
+    end function frac
+
 
     !> Patches of the run i1..i2. A stretch a..b with a valley (a strip below the maxima on
     !> both sides; the lowest one, depth v, lower peak d_lo) is, with the split fraction
@@ -190,20 +284,25 @@ contains
     !> is below both bumps' centroid thresholds (1 - eps) d, so the valley strip contributes
     !> nothing to either centroid and moving the split from one strip to the next is smooth.
     !> Continuous except where two valleys of one run tie while both split (rare).
-    pure subroutine split_run(i1, i2, np, patch, pot)
+    pure subroutine split_run(i1, i2, np, patch, pot, sn)
       integer, intent(in) :: i1, i2
       integer, intent(inout) :: np
       type(patch_geometry_t), intent(inout) :: patch(:)
       !> the patches' potential data (allocated with the energy-consistent force only)
       type(patch_potential_t), allocatable, intent(inout) :: pot(:)
+      !> the distributed normal force (allocated with it only): the patches' loads
+      type(strip_normal_t), allocatable, intent(inout) :: sn
       integer, parameter :: stack_size = 32
       integer :: lo(stack_size), hi(stack_size), top, a, b, kv, k, kc, klo
       real(wp) :: share(stack_size), wn, v, pmax, lambda, x, dlo, dlam(6), gshare(6, stack_size), gw(6)
+      ! the stretches' bounds in strip units: the run's ends, else a refined valley position
+      real(wp) :: xlo(stack_size), xhi(stack_size), xl, xh, xv
       real(wp) :: smax(i1:i2)     ! smax(k) = max(delta(k+1:b)) of the current stretch
       top = 1
       lo(1) = i1; hi(1) = i2; share(1) = 1; gshare(:, 1) = 0
+      xlo(1) = i1 - 0.5_wp; xhi(1) = i2 + 0.5_wp
       do while (top > 0)
-        a = lo(top); b = hi(top); wn = share(top); gw = gshare(:, top)
+        a = lo(top); b = hi(top); wn = share(top); gw = gshare(:, top); xl = xlo(top); xh = xhi(top)
         top = top - 1
         kc = a - 1 + maxloc(delta(a:b), dim=1)
         ! lowest valley: a strip strictly below the maxima on both of its sides
@@ -246,26 +345,32 @@ contains
             dlam = 6 * x * (1 - x) * (strip_wrench(kv) - (v / dlo) * strip_wrench(klo)) / ((1 - virtual_eps) * dlo)
           end if
         end if
-        if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, np, patch, pot, (1 - lambda) * gw - wn * dlam)
+        if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, xl, xh, np, patch, pot, sn, &
+                                     (1 - lambda) * gw - wn * dlam)
         if (lambda > 0) then
+          xv = kv + valley_offset(kv)
           top = top + 1
           lo(top) = a; hi(top) = kv; share(top) = wn * lambda; gshare(:, top) = lambda * gw + wn * dlam
+          xlo(top) = xl; xhi(top) = xv
           top = top + 1
           lo(top) = kv; hi(top) = b; share(top) = wn * lambda; gshare(:, top) = lambda * gw + wn * dlam
+          xlo(top) = xv; xhi(top) = xh
         end if
       end do
     end subroutine split_run
 
-    !> One patch over the stretch a..b (peak strip kc) of the run r1..r2 with force share wn.
-    pure subroutine add_patch(a, b, kc, wn, r1, r2, np, patch, pot, gwn)
+    !> One patch over the stretch a..b (peak strip kc, bounds xl..xh in strip units) of the
+    !> run r1..r2 with force share wn.
+    pure subroutine add_patch(a, b, kc, wn, r1, r2, xl, xh, np, patch, pot, sn, gwn)
       integer, intent(in) :: a, b, kc, r1, r2
-      real(wp), intent(in) :: wn
+      real(wp), intent(in) :: wn, xl, xh
       !> gradient of the share wn with respect to the wheel's translation and rotation
       !> (intermediate frame; potential patches only)
       real(wp), intent(in) :: gwn(6)
       integer, intent(inout) :: np
       type(patch_geometry_t), intent(inout) :: patch(:)
       type(patch_potential_t), allocatable, intent(inout) :: pot(:)
+      type(strip_normal_t), allocatable, intent(inout) :: sn
       real(wp) :: pen, e, f(3), fm(3), curv(3), cgrad(6, 3)
       integer :: iw
       if (use_potential) then
@@ -281,8 +386,9 @@ contains
         iw = minloc(patch(:)%penetration, dim=1)
         if (patch(iw)%penetration >= pen) return
       end if
-      call fill_patch(patch(iw), a, b, kc, pen, r1, r2)
+      call fill_patch(patch(iw), a, b, kc, pen, r1, r2, xl, xh)
       patch(iw)%share = wn
+      if (use_distributed) sn%patch_load(iw) = wn * stretch_load(a, b, xl, xh)
       if (use_potential) then
         patch(iw)%curv_wheel_roll = curv(1)
         patch(iw)%curv_wheel_lat = curv(2)
@@ -324,7 +430,7 @@ contains
         g(1:3, kk) = strip_force_direction(pp, delta(kk), wheel%y(j), wheel%y(j + 1), &
                                            wheel%slope(j), wheel%slope(j + 1), wheel%cone_slope(j))
         g(4:6, kk) = cross(pp, g(1:3, kk))
-        call wheel_point_curvatures(pp(2), j, wheel%y, wheel%r, wheel%slope, wheel%kappa, &
+        call wheel_point_curvatures(pp(2), j, wheel%y, wheel%k_roll, wheel%kappa, &
                                     v(kk, 1), v(kk, 2), dv(kk, 1), dv(kk, 2))
         v(kk, 3) = rail%kappa(kk); dv(kk, 3) = 0
         x = (pp(2) - wheel%y(j)) / (wheel%y(j + 1) - wheel%y(j))
@@ -369,11 +475,12 @@ contains
     end subroutine evaluate_lines
 
     !> Patch over the stretch a..b (peak strip kc) of the run r1..r2, penetration pen.
-    pure subroutine fill_patch(p, a, b, kc, pen, r1, r2)
+    pure subroutine fill_patch(p, a, b, kc, pen, r1, r2, xl, xh)
       type(patch_geometry_t), intent(out) :: p
       integer, intent(in) :: a, b, kc, r1, r2
       real(wp), intent(in) :: pen
-      real(wp) :: x, w, wl, slope, rr, nrm, te, tx, thr, wsum, qsum, tm1, tm2, krsum, kwsum
+      real(wp), intent(in) :: xl, xh          !< the stretch's bounds (distributed force)
+      real(wp) :: x, w, wl, slope, rr, nrm, te, tx, thr, wsum, qsum, tm1, tm2, krsum, kwsum, wq, wcurv
       integer :: kk, jw, kc2
       ! Contact point: centroid of the strips inside the virtual-penetration region of
       ! Kik & Piotrowski (VSD 46, 2008), delta_i > (1 - eps) delta_max with their eps = 0.55,
@@ -383,15 +490,41 @@ contains
       ! Over the bump's stretch a..b only (split_run): Kik & Piotrowski's separate regions.
       p%penetration = pen
       thr = (1 - virtual_eps) * refined_peak(delta, kc, ilo, ihi)
-      wsum = 0; qsum = 0; krsum = 0; kwsum = 0
-      do kk = a, b
-        if (delta(kk) > thr) then
-          wsum = wsum + (delta(kk) - thr)
-          qsum = qsum + (delta(kk) - thr) * (kk - kc)
-          krsum = krsum + (delta(kk) - thr) * rail%kappa(kk)
-          kwsum = kwsum + (delta(kk) - thr) * wheel_kappa_at(kk)
-        end if
-      end do
+      wsum = 0; qsum = 0; krsum = 0; kwsum = 0; wcurv = 0
+      if (use_distributed) then
+        ! the distributed force: CONTACT's reference point, the centre of the
+        ! interpenetration weighted by its square over the area, int delta^2 dA (Vollebregt's
+        ! default weighting): per strip w_i int delta_i(x)^2 dx over its chord 2 sqrt(delta_i / A),
+        ! proportional to w_i delta_i^(5/2) (A varies little across a patch). Manchester
+        ! A-2.2 through the pipeline: every contact position within 0.06 mm of CONTACT's
+        ! (the threshold centroid below: 0.71 mm in case 2). The Hertz curvatures stay
+        ! the threshold region's means (below): averaged with these weights over the whole
+        ! region they took in the near-conformal flange root next to a flange face, and the
+        ! ellipse grew to 16 x 1.1 mm; the leading wheelset of the R 80 m scene
+        ! (bench/extremes) then flipped between root and face (Y 4-98 kN at 14 Hz).
+        do kk = a, b
+          if (delta(kk) > 0) then
+            wq = frac(kk, xl, xh) * rail%width(kk) * delta(kk)**2 * sqrt(delta(kk))
+            wsum = wsum + wq
+            qsum = qsum + wq * (kk - kc)
+          end if
+          if (delta(kk) > thr) then
+            wcurv = wcurv + (delta(kk) - thr)
+            krsum = krsum + (delta(kk) - thr) * rail%kappa(kk)
+            kwsum = kwsum + (delta(kk) - thr) * wheel_kappa_at(kk)
+          end if
+        end do
+      else
+        do kk = a, b
+          if (delta(kk) > thr) then
+            wsum = wsum + (delta(kk) - thr)
+            wcurv = wcurv + (delta(kk) - thr)
+            qsum = qsum + (delta(kk) - thr) * (kk - kc)
+            krsum = krsum + (delta(kk) - thr) * rail%kappa(kk)
+            kwsum = kwsum + (delta(kk) - thr) * wheel_kappa_at(kk)
+          end if
+        end do
+      end if
       x = 0
       if (wsum > 0) x = qsum / wsum
       kk = kc + floor(x)
@@ -427,7 +560,7 @@ contains
       ! N = K(q) delta^1.5 is no gradient field: a closed loop of poses of 0.1 x 0.05 mm got
       ! 35 % of its gross work back, the energy source of the flange chatter
       ! (docs/theory_flange_chatter.md; test_wheelset_energy).
-      if (wsum > 0) p%curv_rail_lat = krsum / wsum
+      if (wcurv > 0) p%curv_rail_lat = krsum / wcurv
       p%curv_rail_roll = 0
       jw = locate(wheel%y, p%point_wheel(2))
       x = (p%point_wheel(2) - wheel%y(jw)) / (wheel%y(jw + 1) - wheel%y(jw))
@@ -437,7 +570,7 @@ contains
       slope = wheel%slope(jw) + x * (wheel%slope(jw + 1) - wheel%slope(jw))
       p%rolling_radius = rr
       p%curv_wheel_lat = wheel%kappa(jw) + x * (wheel%kappa(jw + 1) - wheel%kappa(jw))
-      if (wsum > 0) p%curv_wheel_lat = kwsum / wsum    ! (see curv_rail_lat)
+      if (wcurv > 0) p%curv_wheel_lat = kwsum / wcurv    ! (see curv_rail_lat)
       ! normal curvature of a surface of revolution along its parallel: cos(gamma_s)/r
       ! (the inverse of the thesis' indentation radius R_s = r_s / cos(gamma_s), eq. 4.75)
       p%curv_wheel_roll = 1 / (rr * sqrt(1 + slope**2))
@@ -791,6 +924,20 @@ contains
     x = 0.5_wp * (dm - dp) / den
     x = min(max(x, -0.5_wp), 0.5_wp)
   end function peak_offset
+
+  !> Offset of the vertex of the parabola through strips k-1, k, k+1 from strip k where k
+  !> is a valley (in [-1/2, 1/2]; 0 if the three are not convex): continuous where the
+  !> lowest strip of a flat valley bottom changes (+1/2 of one stencil = -1/2 of the next).
+  pure real(wp) function valley_offset_of(delta, k) result(x)
+    real(wp), intent(in) :: delta(:)
+    integer, intent(in) :: k
+    real(wp) :: den
+    x = 0
+    den = delta(k - 1) - 2 * delta(k) + delta(k + 1)
+    if (den <= 0) return
+    x = 0.5_wp * (delta(k - 1) - delta(k + 1)) / den
+    x = min(max(x, -0.5_wp), 0.5_wp)
+  end function valley_offset_of
 
   !> Vertex value of that parabola (= delta(k) at the ends of the window).
   pure real(wp) function refined_peak(delta, k, ilo, ihi) result(v)

@@ -12,13 +12,13 @@
 !> N F = K E^(3/2) (-grad_u E) derives from U = (2/5) K E^(5/2).
 module rd_strip_potential
   use rd_kinds, only: wp
-  use rd_rotation, only: cross
   implicit none
   private
   !> order q of the Lehmer mean that stands in for the deepest strip (effective_penetration):
   !> larger follows the deepest bump more closely, with steeper changes between bumps
   integer, parameter :: lehmer_order = 8
   public :: effective_penetration, strip_force_direction, region_mean, wheel_point_curvatures, deepest_point_py_gradient
+  public :: smooth_strip_depth
 
 contains
 
@@ -149,50 +149,44 @@ contains
   end subroutine region_mean
 
   !> The wheel's principal curvatures at lateral position py on segment j of the profile
-  !> points y, r (radius), slope (dr/dy) and kappa (smoothed profile curvature): rolling
-  !> direction cos(gamma)/r = 1 / (r sqrt(1 + k^2)) (thesis eq. 4.75) and profile
-  !> (lateral), and their derivatives with respect to py. Both are cubic Hermite
+  !> points y with the point values k_roll (rolling direction, cos(gamma)/r, thesis eq.
+  !> 4.75) and kappa (smoothed profile curvature, lateral), and their derivatives with
+  !> respect to py. Both are cubic Hermite
   !> interpolations of their point values with central-difference slopes: C1 in py, so that
   !> the Hertz constant's gradient term of the potential force is continuous where a
   !> strip's deepest point crosses a profile point (with linear interpolation its slope
   !> jumped at every point, 0.2 mm apart, and the integrator's Newton iteration failed
   !> there). Clamped (derivatives zero) beyond the profile's ends.
-  pure subroutine wheel_point_curvatures(py, j, y, r, slope, kappa, k_roll, k_lat, dk_roll, dk_lat)
+  pure subroutine wheel_point_curvatures(py, j, y, k_roll_pts, kappa, k_roll, k_lat, dk_roll, dk_lat)
     real(wp), intent(in) :: py
     integer, intent(in) :: j
-    real(wp), intent(in) :: y(:), r(:), slope(:), kappa(:)
+    real(wp), intent(in) :: y(:), k_roll_pts(:), kappa(:)
     real(wp), intent(out) :: k_roll, k_lat, dk_roll, dk_lat
-    real(wp) :: h, x, v0, v1, m0, m1
+    real(wp) :: h, x
     integer :: n
     n = size(y)
     h = y(j + 1) - y(j)
     x = (py - y(j)) / h
     if (x <= 0 .or. x >= 1) then
       x = min(max(x, 0.0_wp), 1.0_wp)
-      k_roll = roll_at(j + nint(x)); k_lat = kappa(j + nint(x))
+      k_roll = k_roll_pts(j + nint(x)); k_lat = kappa(j + nint(x))
       dk_roll = 0; dk_lat = 0
       return
     end if
-    v0 = roll_at(j); v1 = roll_at(j + 1)
-    m0 = (roll_at(min(j + 1, n)) - roll_at(max(j - 1, 1))) / (y(min(j + 1, n)) - y(max(j - 1, 1)))
-    m1 = (roll_at(min(j + 2, n)) - roll_at(j)) / (y(min(j + 2, n)) - y(j))
-    call hermite(x, h, v0, v1, m0, m1, k_roll, dk_roll)
-    v0 = kappa(j); v1 = kappa(j + 1)
-    m0 = (kappa(min(j + 1, n)) - kappa(max(j - 1, 1))) / (y(min(j + 1, n)) - y(max(j - 1, 1)))
-    m1 = (kappa(min(j + 2, n)) - kappa(j)) / (y(min(j + 2, n)) - y(j))
-    call hermite(x, h, v0, v1, m0, m1, k_lat, dk_lat)
+    call hermite(k_roll_pts, k_roll, dk_roll)
+    call hermite(kappa, k_lat, dk_lat)
   contains
-    pure real(wp) function roll_at(i)
-      integer, intent(in) :: i
-      roll_at = 1 / (r(i) * sqrt(1 + slope(i)**2))
-    end function roll_at
-    pure subroutine hermite(x, h, v0, v1, m0, m1, v, dv)
-      real(wp), intent(in) :: x, h, v0, v1, m0, m1
-      real(wp), intent(out) :: v, dv
-      real(wp) :: x2, x3
+    !> value and derivative of the cubic Hermite of point values v on segment j at x
+    pure subroutine hermite(v, f, df)
+      real(wp), intent(in) :: v(:)
+      real(wp), intent(out) :: f, df
+      real(wp) :: m0, m1, x2, x3
+      m0 = (v(min(j + 1, n)) - v(max(j - 1, 1))) / (y(min(j + 1, n)) - y(max(j - 1, 1)))
+      m1 = (v(min(j + 2, n)) - v(j)) / (y(min(j + 2, n)) - y(j))
       x2 = x * x; x3 = x2 * x
-      v = (2 * x3 - 3 * x2 + 1) * v0 + (x3 - 2 * x2 + x) * h * m0 + (-2 * x3 + 3 * x2) * v1 + (x3 - x2) * h * m1
-      dv = ((6 * x2 - 6 * x) * v0 + (3 * x2 - 4 * x + 1) * h * m0 + (-6 * x2 + 6 * x) * v1 + (3 * x2 - 2 * x) * h * m1) / h
+      f = (2 * x3 - 3 * x2 + 1) * v(j) + (x3 - 2 * x2 + x) * h * m0 + (-2 * x3 + 3 * x2) * v(j + 1) + (x3 - x2) * h * m1
+      df = ((6 * x2 - 6 * x) * v(j) + (3 * x2 - 4 * x + 1) * h * m0 + (-6 * x2 + 6 * x) * v(j + 1) &
+            + (3 * x2 - 2 * x) * h * m1) / h
     end subroutine hermite
   end subroutine wheel_point_curvatures
 
@@ -223,9 +217,13 @@ contains
     gp = -[d(1) / rho - sxz * p(1) / rho**3, 0.0_wp, d(3) / rho - sxz * p(3) / rho**3]
     gd = [-p(1) / rho, s, -p(3) / rho]
     dt(1:3) = gp / dtt
-    dt(4:6) = (cross(p, gp) + cross(d, gd)) / dtt
+    ! p x gp + d x gd and -p x e_y written out (a hot path of the distributed force; the
+    ! module function is not inlined across modules)
+    dt(4:6) = [p(2) * gp(3) - p(3) * gp(2) + d(2) * gd(3) - d(3) * gd(2), &
+               p(3) * gp(1) - p(1) * gp(3) + d(3) * gd(1) - d(1) * gd(3), &
+               p(1) * gp(2) - p(2) * gp(1) + d(1) * gd(2) - d(2) * gd(1)] / dtt
     gpy(1:3) = [0.0_wp, -1.0_wp, 0.0_wp]
-    gpy(4:6) = -cross(p, [0.0_wp, 1.0_wp, 0.0_wp])
+    gpy(4:6) = [p(3), 0.0_wp, -p(1)]
     gpy = gpy + d(2) * dt
   end function deepest_point_py_gradient
 
@@ -261,5 +259,46 @@ contains
     ! d_i k k_y / (1 + k^2)^(3/2) with d_i = delta_i sqrt(1 + k^2)
     g(2) = g(2) - depth * k * ky / root**2
   end function strip_force_direction
+
+  !> A strip's normal depth into the SMOOTH wheel and minus its gradient (the force
+  !> direction), from its depth into the polygonal wheel of the strip search. The search's
+  !> wheel is a chain of cones, so a strip's depth kinks, and the direction's chord slope s_j
+  !> jumps, wherever its deepest point crosses a profile point: summed over the strips of a
+  !> patch the distributed force jumped by 20-40 N every few micrometres of lateral shift on
+  !> a flange root (one strip crossing a point each time), and BDF's steps collapsed in a
+  !> quasi-static curve (the TGV profile scene). Here the radius is the cubic Hermite
+  !> r_h(y) through the points with the profile slopes there (C1, curvature within each
+  !> segment), and at the deepest point p found on the cones
+  !>    d_h = d + r_h(p_y) - r_lin(p_y),   delta = d_h / sqrt(1 + k^2),   k = r_h'(p_y),
+  !>    g = (-e_rho + k e_y) / sqrt(1 + k^2) - d_h k k_y / (1 + k^2)^(3/2) e_y,  k_y = r_h''(p_y)
+  !> (d the radial depth into the cones, r_lin their radius at p_y). The deepest point stays
+  !> the cones' (its shift to the smooth surface's changes the depth to second order; on a
+  !> yawed line the gradient misses (k - s_j) d_y dt, ~1e-4 of it).
+  pure subroutine smooth_strip_depth(p, depth_cones, j, y, r, slope, depth, g)
+    real(wp), intent(in) :: p(3)            !< deepest point on the cones, intermediate frame [m]
+    real(wp), intent(in) :: depth_cones     !< the strip search's depth d / sqrt(1 + k_lin^2) [m]
+    integer, intent(in) :: j                !< the cone (segment j, j + 1)
+    real(wp), intent(in) :: y(:), r(:), slope(:)  !< profile points: lateral position, radius, dr/dy
+    real(wp), intent(out) :: depth          !< normal depth into the smooth wheel [m]
+    real(wp), intent(out) :: g(3)           !< -d depth / d (wheel displacement), intermediate frame
+    real(wp) :: h, x, k_lin, d, r_lin, r_h, k, ky, root, rho, m0, m1
+    h = y(j + 1) - y(j)
+    x = min(max((p(2) - y(j)) / h, 0.0_wp), 1.0_wp)
+    k_lin = slope(j) + x * (slope(j + 1) - slope(j))
+    d = depth_cones * sqrt(1 + k_lin**2)
+    r_lin = r(j) + x * (r(j + 1) - r(j))
+    m0 = slope(j) * h; m1 = slope(j + 1) * h
+    r_h = (2 * x**3 - 3 * x**2 + 1) * r(j) + (x**3 - 2 * x**2 + x) * m0 + (-2 * x**3 + 3 * x**2) * r(j + 1) &
+          + (x**3 - x**2) * m1
+    k = ((6 * x**2 - 6 * x) * r(j) + (3 * x**2 - 4 * x + 1) * m0 + (-6 * x**2 + 6 * x) * r(j + 1) &
+         + (3 * x**2 - 2 * x) * m1) / h
+    ky = ((12 * x - 6) * r(j) + (6 * x - 4) * m0 + (-12 * x + 6) * r(j + 1) + (6 * x - 2) * m1) / h**2
+    d = d + r_h - r_lin
+    root = sqrt(1 + k**2)
+    depth = d / root
+    rho = hypot(p(1), p(3))
+    g = [-p(1) / rho, k, -p(3) / rho] / root
+    g(2) = g(2) - d * k * ky / root**3
+  end subroutine smooth_strip_depth
 
 end module rd_strip_potential

@@ -32,7 +32,7 @@ module rd_wheelset_contact
   use rd_contact_patch, only: patch_geometry_t, patch_potential_t, wheel_contact_t, PATCH_FLANGE_SPRING
   use rd_contact_geometry, only: contact_geometry_t, wheelset_contact, CONTACT_MODEL_STRIP, CONTACT_MODEL_TABLE, &
     SIDE_LEFT, SIDE_RIGHT
-  use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration, hertz_damped_force
+  use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration, hertz_from_force, hertz_damped_force
   use rd_creepage, only: creepage_t, creepages_from_velocities
   use rd_creep_law, only: creep_law_t, creep_force_t, creep_patch_t
   use rd_creep_factory, only: build_creep_law
@@ -489,8 +489,15 @@ contains
           ! bump's ellipse and creep forces, scaled (its penetration share^(2/3) delta gives
           ! N = share N_bump by itself, but an ellipse growing like share^(1/3), whose creep
           ! forces rose with infinite slope where a split began)
-          call hertz_from_penetration(m%hertz, [p%curv_wheel_roll, p%curv_wheel_lat, &
-                                      p%curv_rail_roll, p%curv_rail_lat], p%penetration / p%share**(2.0_wp / 3), hp)
+          if (allocated(wc%distributed)) then
+            ! the distributed force's load of the patch's strips (rd_hertz_strip) sizes the
+            ! ellipse and loads the creep law: the same normal force as the one applied
+            call hertz_from_force(m%hertz, [p%curv_wheel_roll, p%curv_wheel_lat, p%curv_rail_roll, &
+                                  p%curv_rail_lat], m%hertz%e_star * wc%distributed%patch_load(k) / p%share, hp)
+          else
+            call hertz_from_penetration(m%hertz, [p%curv_wheel_roll, p%curv_wheel_lat, &
+                                        p%curv_rail_roll, p%curv_rail_lat], p%penetration / p%share**(2.0_wp / 3), hp)
+          end if
           nf = hertz_damped_force(p%share * hp%normal_force, m%damping, rate)
           ! creepages (thesis 3.6.1; eqs. 4.80-4.86): wheel material point relative to the rail
           ! (the rail material moves with v_rail, translation only: a rail body's rotations
@@ -512,7 +519,14 @@ contains
         end if
         ! forces on the wheel (thesis 4.90 in contact components, 4.96 spin couple); the
         ! energy-consistent strip force acts along its own direction (rd_strip_potential)
-        if (allocated(wc%potential)) then
+        if (allocated(wc%distributed)) then
+          ! the distributed strip force carries the elastic normal force (added below, for
+          ! the whole wheel); the patch keeps its damping part along its normal and the
+          ! creep forces
+          f = (nf - p%share * hp%normal_force) * n + cf%fx * xc + cf%fy * yc
+          fw = fw + f
+          mw = mw + cross(r_c, f) + cf%mz * n
+        else if (allocated(wc%potential)) then
           ! the normal force on its own line of action (moment about the CG, whose
           ! intermediate frame is the geometry's) with the Hertz constant's gradient term,
           ! the creep forces at the patch point (rd_strip_potential)
@@ -547,6 +561,10 @@ contains
     do k = wc%n_patches + 1, size(out%patch)
       out%patch(k) = patch_result_t()
     end do
+    if (allocated(wc%distributed)) then
+      fw = fw + m%hertz%e_star * matmul(a, wc%distributed%force)
+      mw = mw + m%hertz%e_star * matmul(kin%rot_attach, wc%distributed%moment)
+    end if
     ft = matmul(fw, a)
     out%force_track = ft
     ! flange contact pushes the left wheel to -Y and the right wheel to +Y

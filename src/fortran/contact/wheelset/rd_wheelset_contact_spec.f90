@@ -15,6 +15,7 @@ module rd_wheelset_contact_spec
                                  build_table_contact, SIDE_LEFT, SIDE_RIGHT
   use rd_contact_table, only: contact_table_options_t
   use rd_hertz, only: hertz_params_t, build_hertz
+  use rd_hertz_strip, only: fill_strip_stiffness_table
   use rd_creep_law, only: creep_law_options_t
   use rd_creepage, only: default_creep_v0
   implicit none
@@ -43,9 +44,10 @@ module rd_wheelset_contact_spec
     !> profile model: 'strips' (online strip search) | 'table' (pre-computed tables of it,
     !> rd_contact_table, with `table` options)
     character(len=16) :: contact_geometry = 'strips'
-    !> online strips: 'centroid' | 'potential' (the energy-consistent normal force,
-    !> rd_strip_potential)
-    character(len=16) :: strip_normal_force = 'centroid'
+    !> online strips: 'distributed' (every strip along its depth gradient, rd_hertz_strip) |
+    !> 'centroid' (per patch, along the normal at its centroid) | 'potential' (per patch, an
+    !> effective penetration's gradient, rd_strip_potential)
+    character(len=16) :: strip_normal_force = 'distributed'
     type(contact_table_options_t) :: table
     !> profiles: a file path (SIMPACK .prw/.prr or table) or 's1002' / '60e1' / '54e1'.
     !> Ignored when the corresponding *_data profile is given (points allocated).
@@ -115,9 +117,10 @@ contains
                       '" unknown; expected ''strips'' or ''table''')
     else if (trim(spec%contact_geometry) == 'table' .and. trim(spec%model) /= 'profile') then
       call make_error(error, RD_ERR_INPUT, 'wheelset contact: contact_geometry = ''table'' needs profile contact')
-    else if (trim(spec%strip_normal_force) /= 'centroid' .and. trim(spec%strip_normal_force) /= 'potential') then
+    else if (trim(spec%strip_normal_force) /= 'centroid' .and. trim(spec%strip_normal_force) /= 'potential' .and. &
+             trim(spec%strip_normal_force) /= 'distributed') then
       call make_error(error, RD_ERR_INPUT, 'wheelset contact: strip normal force "' // trim(spec%strip_normal_force) // &
-                      '" unknown; expected ''centroid'' or ''potential''')
+                      '" unknown; expected ''centroid'', ''potential'' or ''distributed''')
     else if (.not. (spec%friction >= 0 .and. spec%friction < 5)) then
       call make_error(error, RD_ERR_INPUT, 'wheelset contact: friction coefficient must be in [0, 5)')
     else if (.not. (spec%contact_damping >= 0 .and. spec%contact_damping < 1.0e12_wp)) then
@@ -230,6 +233,9 @@ contains
       end if
       ! (online strips only: a contact table tabulates the classic patches, a knife edge has none)
       geo%potential_normal = trim(spec%strip_normal_force) == 'potential' .and. trim(spec%contact_geometry) == 'strips'
+      geo%distributed_normal = trim(spec%strip_normal_force) == 'distributed' .and. &
+                               trim(spec%contact_geometry) == 'strips'
+      if (geo%distributed_normal) call fill_strip_stiffness_table()
       ! the provider: online strips, or tables of them (one line, the rest is shared)
       if (.not. allocated(error) .and. trim(spec%contact_geometry) == 'table') call build_table_contact(geo, spec%table, error)
     end if

@@ -417,12 +417,15 @@ contains
       only_with(pstr('contact_geometry', 'profile contact geometry: the strip search online, or pre-computed ' // &
              'tables of it (docs/theory_contact_geometry.md section 10)', default='strips', allowed='strips|table'), &
                 'contact', 'profile'), &
-      only_with(pstr('strip_normal_force', 'online strips: the normal force of a patch: centroid (the ' // &
-             'refined peak penetration along the rail normal at the centroid of the virtual-penetration ' // &
-             'region) or potential (an effective penetration and its gradient: a conservative force field; ' // &
-             'experimental: several times the CPU; its direction can leave the surface normals at conformal ' // &
-             'flange contact (not for derailment studies); ' // &
-             'docs/theory_flange_chatter.md section 13)', default='centroid', allowed='centroid|potential'), &
+      only_with(pstr('strip_normal_force', 'online strips: the normal force: distributed (every ' // &
+             'penetrating strip pushes along its own depth gradient with a stiffness that reproduces Hertz ' // &
+             'on Hertzian gaps: a conservative, smooth force field; the patches take their loads from their ' // &
+             'strips and CONTACT''s reference point; docs/theory_flange_chatter.md section 14), centroid ' // &
+             '(per patch: the refined peak penetration along the rail normal at the centroid of the ' // &
+             'virtual-penetration region; not conservative where the contact jumps) or potential (per ' // &
+             'patch: an effective penetration and its gradient; experimental: several times the CPU; its ' // &
+             'direction can leave the surface normals at conformal flange contact (not for derailment ' // &
+             'studies); section 13)', default='distributed', allowed='distributed|centroid|potential'), &
                 'contact_geometry', 'strips'), &
       only_with(preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift (the build ' // &
               'time grows as 1/step: about 1-4 s at 1e-4)', default=1.0e-4_wp, &

@@ -18,15 +18,17 @@
 !>    potential U = sum share (2/5) K(kappa) E^(5/2) = sum (2/5) share N_bump E, by central
 !>    differences along the motion of U built here from the geometry and the Hertz model
 !>    (rd_strip_potential; the force's direction, line of action and Hertz-constant term
-!>    are not used); for the classic strip force (the default) N n . v_c
+!>    are not used); for the distributed strip force (the default) minus the rate of the
+!>    strip energy U = E* sum w_i phi_i s(delta_i) the geometry reports (its force, direction
+!>    and line of action are not used); for the centroid strip force N n . v_c
 !>    at the material point, built here from the geometry (A Rz(psi) Rx(phi) u - delta/2 n).
 !> 3. The normal force field (friction 0, no damping) must be conservative: the work of the
 !>    contact force around a closed loop of poses (ellipses 0.1 mm x 0.05 mm x 0.1 mrad in
 !>    the (y, z), (z, roll), (y, roll) planes), relative to the summed |dW| of the loop, below
-!>    1e-4 for the energy-consistent strip force on the tread (y = 3.5 mm), on the flange
+!>    1e-4 for the distributed and the potential strip forces on the tread (y = 3.5 mm), on the flange
 !>    (y = 7 mm), at the jump of the contact from the tread to the flange root (y = 5.0 mm,
 !>    blended patches) and at the jump from the flange root to the flange (y = 6.25 mm). The
-!>    classic strip force (the default): below 5e-3 on the tread and the flange, 5e-2 at
+!>    centroid strip force: below 5e-3 on the tread and the flange, 5e-2 at
 !>    5.0 mm (0.35 when the Hertz curvatures were taken at the contact point alone), and
 !>    not conservative at 6.25 mm: its loop work there is 9 % of the summed |dW| (the force
 !>    along the normal at the patch centroid, the penetration the peak's), checked to exceed
@@ -48,10 +50,12 @@ program test_wheelset_energy
   implicit none
   real(wp), parameter :: r0 = 0.46_wp, v = 4.4_wp, sigma = 10.0_wp, lowering = 6.0e-5_wp
   integer, parameter :: n_loop = 2000
+  !> the normal forces of power_balance
+  integer, parameter :: FORCE_CLASSIC = 1, FORCE_POTENTIAL = 2, FORCE_DISTRIBUTED = 3
   !> loops: planes of (q_i, q_j) and amplitudes (y 0.1 mm, z 0.05 mm, roll 0.1 mrad)
   integer, parameter :: planes(2, 3) = reshape([2, 3, 3, 5, 2, 5], [2, 3])
   real(wp), parameter :: amp(6) = [0.0_wp, 1.0e-4_wp, 5.0e-5_wp, 0.0_wp, 1.0e-4_wp, 0.0_wp]
-  type(wheelset_contact_spec_t) :: spec, spec0, specc, specc0
+  type(wheelset_contact_spec_t) :: spec, spec0, specc, specc0, specd, specd0
   type(wheelset_contact_t) :: ws
   type(error_t), allocatable :: error
   type(circle_track_t) :: straight
@@ -76,17 +80,30 @@ program test_wheelset_energy
   specc0 = spec0
   specc0%body = 4
   specc0%strip_normal_force = 'centroid'
-  call ws%build([spec, spec0, specc, specc0], 4, error)
+  ! 5 and 6 the distributed strip force, friction 0.4 and 0
+  specd = specc
+  specd%body = 5
+  specd%strip_normal_force = 'distributed'
+  specd0 = specc0
+  specd0%body = 6
+  specd0%strip_normal_force = 'distributed'
+  call ws%build([spec, spec0, specc, specc0, specd, specd0], 6, error)
   if (allocated(error)) error stop error%message
 
   call normal_motion_is_no_slip()
-  call power_balance(1, .true.)
-  call power_balance(3, .false.)
+  call power_balance(1, FORCE_POTENTIAL)
+  call power_balance(3, FORCE_CLASSIC)
+  call power_balance(5, FORCE_DISTRIBUTED)
 
   y_cases = [3.5e-3_wp, 7.0e-3_wp, 5.0e-3_wp, 6.25e-3_wp]
   do ic = 1, size(y_cases)
     call loop_ratio(2, y_cases(ic), ratio)
     call check(ratio < 1.0e-4_wp, 'potential strip force conservative at y = ' // trim(mm_text(y_cases(ic))) // &
+               ' mm: |loop work| / sum |dW| < 1e-4')
+  end do
+  do ic = 1, size(y_cases)
+    call loop_ratio(6, y_cases(ic), ratio)
+    call check(ratio < 1.0e-4_wp, 'distributed strip force conservative at y = ' // trim(mm_text(y_cases(ic))) // &
                ' mm: |loop work| / sum |dW| < 1e-4')
   end do
   do ic = 1, size(y_cases)
@@ -135,6 +152,10 @@ contains
     if (allocated(error)) error stop error%message
     u = 0
     do side = 1, 2
+      if (allocated(wc(side)%distributed)) then
+        u = u + ws%models(iw)%hertz%e_star * wc(side)%distributed%energy
+        cycle
+      end if
       do k = 1, wc(side)%n_patches
         associate (p => wc(side)%patch(k))
           e = p%penetration / p%share**(2.0_wp / 3)
@@ -224,9 +245,9 @@ contains
     end associate
   end subroutine normal_motion_is_no_slip
 
-  subroutine power_balance(iw, use_potential)
+  subroutine power_balance(iw, normal_force)
     integer, intent(in) :: iw
-    logical, intent(in) :: use_potential
+    integer, intent(in) :: normal_force     !< FORCE_*
     real(wp), parameter :: h = 1.0e-6_wp   !< time step of the potential's differences [s]
     type(body_kinematics_t) :: kin
     type(wheel_contact_t) :: wc(2)
@@ -236,6 +257,8 @@ contains
     integer :: ip, it, side, k
     integer :: seed(64)
     character(len=:), allocatable :: what
+    logical :: use_potential
+    use_potential = normal_force /= FORCE_CLASSIC
     seed = 12345
     call random_seed(put=seed(1:size_seed()))
     poses = reshape([3.0e-3_wp, 0.0_wp, 3.0e-3_wp, 0.015_wp, 6.2e-3_wp, 0.0_wp, 6.2e-3_wp, 0.015_wp], [2, 4])
@@ -265,8 +288,14 @@ contains
         most_creep = max(most_creep, p_creep / scale)
       end do
     end do
-    what = merge('potential strip force, P_N = -dU/dt               ', 'classic strip force, P_N = N n . v_c at the points', &
-                 use_potential)
+    select case (normal_force)
+    case (FORCE_POTENTIAL)
+      what = 'potential strip force, P_N = -dU/dt'
+    case (FORCE_DISTRIBUTED)
+      what = 'distributed strip force, P_N = -dU/dt'
+    case default
+      what = 'classic strip force, P_N = N n . v_c at the points'
+    end select
     write (*, '(a,es10.2,a,es10.2)') trim(what) // ': max |P_G - P_N - P_creep| / scale ', worst, &
       '; max P_creep / scale ', most_creep
     ! the potential's differences: truncation ~ (h |qd| / 1e-4 m)^2, and the force's kinks

@@ -59,7 +59,10 @@
 !>   with the approach: in case 2 (right wheel, a 14 mm wide patch just after the jump) the
 !>   rigid-lowering check of test_mbench_a22_geometry puts the point at -18.4, -17.4, -13.9 mm
 !>   for a 10, 20, 40 um lowering (CONTACT: -16.03 mm at its approach of 19.5 um); loaded to
-!>   10 kN, our approach is 21.5 um there.
+!>   10 kN, our approach is 19.5 um there (the centroid force's: 21.5 um).
+!> - The approach at 10 kN per wheel (the normal model alone) within 12 % of CONTACT's
+!>   APPROACH (printed in mbench_a22_left/right.ref_out, read here): measured 10.1 % (case
+!>   12, right flange root; every left tread patch within 2.1 %); the centroid force 10.3 %.
 program test_wheelset_mbench_a22
   use rd_kinds, only: wp
   use rd_error, only: error_t
@@ -82,6 +85,8 @@ program test_wheelset_mbench_a22
   real(wp) :: c(25), yws, yaw, roll_ref, pitch_rate, z, roll, f(3), m(3)
   real(wp) :: ref(2, 5), got(2, 5), tol_c(3), err_c(3), err_f(2), worst_c(3), worst_f(2), floor_c(3)
   real(wp) :: ref_tr(2, 2), worst_tr(2), err_tr(2), u_ref(2), worst_u
+  !> CONTACT's approach per case and side [m] (the ref_out prints), our error, the worst
+  real(wp) :: approach_ref(21, 2), approach_err, worst_a
   integer :: main
   integer :: unit, ios, icase, side, k, ncomp, nmulti
   real(wp) :: pose_y, pose_psi, pose_spin
@@ -106,7 +111,9 @@ program test_wheelset_mbench_a22
   if (allocated(error)) error stop error%message
 
   floor_c = [5.0e-5_wp, 1.0e-5_wp, 2.0e-3_wp]
-  worst_c = 0; worst_f = 0; ncomp = 0; worst_tr = 0; nmulti = 0; worst_u = 0; worst_self = 0
+  worst_c = 0; worst_f = 0; ncomp = 0; worst_tr = 0; nmulti = 0; worst_u = 0; worst_self = 0; worst_a = 0
+  call read_approaches('mbench_a22/mbench_a22_left.ref_out', approach_ref(:, 1))
+  call read_approaches('mbench_a22/mbench_a22_right.ref_out', approach_ref(:, 2))
   open (newunit=unit, file=reference_path('mbench_a22/reference.csv'), status='old', action='read')
   read (unit, '(a)') line
   write (*, '(a)') 'case side  xi        ref       | eta       ref       | phi[1/m]  ref       | Fx[N]     ref      | Fy[N]     ref'
@@ -136,6 +143,11 @@ program test_wheelset_mbench_a22
       do side = 1, 2
         associate (w => res%wheel(side))
           main = maxloc(w%patch(1:w%n_patches)%normal_force, dim=1)
+          approach_err = abs(w%max_penetration - approach_ref(icase, side)) / approach_ref(icase, side)
+          write (*, '(a,a6,f8.3,a,f8.3,a,f6.1,a)') '      approach', merge(' left', 'right', side == 1), &
+            1.0e6_wp * w%max_penetration, ' um | CONTACT', 1.0e6_wp * approach_ref(icase, side), ' um (', &
+            1.0e2_wp * approach_err, ' %)'
+          worst_a = max(worst_a, approach_err)
           write (*, '(a,a6,f9.3,a,f9.3,a)') '      contact on the rail', merge(' left', 'right', side == 1), &
             1.0e3_wp * w%patch(main)%u_rail, ' mm | CONTACT', 1.0e3_wp * u_ref(side), ' mm'
           worst_u = max(worst_u, abs(w%patch(main)%u_rail - u_ref(side)))
@@ -200,6 +212,8 @@ program test_wheelset_mbench_a22
   ! interpolation and the direction of the approach offset: ~1e-6; limit one fifth of the xi floor)
   call check(worst_self < 1.0e-5_wp, 'the combined-reference creepage reproduces the pipeline''s at each patch''s own point')
   call check(worst_u < 1.0e-3_wp, 'contact positions on the rails within 1 mm of CONTACT in every case (10 kN per wheel)')
+  write (*, '(a,f6.1,a)') 'largest difference of the approach at 10 kN from CONTACT''s: ', 1.0e2_wp * worst_a, ' %'
+  call check(worst_a < 0.12_wp, 'approach at 10 kN per wheel within 12 % of CONTACT''s in every case (the normal model)')
   call check(nmulti <= 1, 'at most one case with two patches on a wheel')
   call check(ncomp == 21, 'creepages of every case compared')
   call check(all(worst_tr <= 1), 'two-patch wheels: resultant X within 25%, Y within 15% of CONTACT''s Fs')
@@ -345,5 +359,32 @@ contains
     if (allocated(error)) error stop error%message
     gq = [ws%results(1)%wheel(1)%force_track(3), ws%results(1)%wheel(2)%force_track(3)] - q_target
   end function loads
+
+
+  !> CONTACT's approach [mm in the file, m here] per case, in the order of the cases: the
+  !> fourth value of the line after each 'FN/G ... APPROACH PMAX' header of a ref_out.
+  subroutine read_approaches(name, approach)
+    character(len=*), intent(in) :: name
+    real(wp), intent(out) :: approach(:)
+    real(wp) :: vals(5)
+    integer :: u, ios, n
+    character(len=200) :: text
+    open (newunit=u, file=reference_path(name), status='old', action='read')
+    n = 0
+    do
+      read (u, '(a)', iostat=ios) text
+      if (ios /= 0) exit
+      if (index(text, 'APPROACH') > 0 .and. index(text, 'PMAX') > 0) then
+        read (u, *) vals
+        n = n + 1
+        if (n <= size(approach)) approach(n) = 1.0e-3_wp * vals(4)
+      end if
+    end do
+    close (u)
+    if (n /= size(approach)) then
+      print '(a,i0,a,i0)', 'FAIL ' // name // ': approaches found ', n, ', expected ', size(approach)
+      error stop 1
+    end if
+  end subroutine read_approaches
 
 end program test_wheelset_mbench_a22

@@ -27,9 +27,12 @@ program test_wheelset_static
   use rd_test_support, only: check, test_summary
   implicit none
   real(wp), parameter :: r0 = 0.46_wp, v = 20.0_wp, mass = 1813.0_wp
-  !> 'profile': the default strip force, along the contact normal (the frame relation checked
-  !> below); 'profile_potential': the energy-consistent one (`strip_normal_force = 'potential'`)
-  character(len=17) :: models(3) = [character(len=17) :: 'knife_edge', 'profile', 'profile_potential']
+  !> 'profile': the default strip force (distributed over the strips, rd_hertz_strip);
+  !> 'profile_centroid': the patch force along the contact normal (`strip_normal_force =
+  !> 'centroid'`, the frame relation checked below); 'profile_potential': the effective
+  !> penetration's gradient (`strip_normal_force = 'potential'`)
+  character(len=17) :: models(4) = [character(len=17) :: 'knife_edge', 'profile', 'profile_centroid', &
+                                    'profile_potential']
   integer :: im
   type(wheelset_contact_spec_t) :: spec
   type(wheelset_contact_t) :: ws
@@ -57,9 +60,9 @@ contains
     write (*, '(a)') '--- model ' // model
     spec%body = 1
     spec%model = model
-    if (model == 'profile_potential') then
+    if (model == 'profile_potential' .or. model == 'profile_centroid') then
       spec%model = 'profile'
-      spec%strip_normal_force = 'potential'
+      spec%strip_normal_force = model(9:)
     end if
     spec%wheel_profile = 's1002'
     spec%rail_profile = '60e1'
@@ -90,11 +93,12 @@ contains
       call check(rel_err(wl%force_track(3) + wr%force_track(3), weight) < 1.0e-6_wp, &
                  model // ': Q_left + Q_right = weight')
       ! contact frame at zero yaw: n = (0, sin g, cos g), y_c = n x X = (0, cos g, -sin g),
-      ! so Q = N cos(g) - Fy sin(g) and Y = N sin(g) + Fy cos(g) (spin creep gives Fy); the
-      ! potential strip force acts along the gradient of its effective penetration instead
-      ! (rd_strip_potential; test_strip_potential, test_wheelset_energy)
+      ! so Q = N cos(g) - Fy sin(g) and Y = N sin(g) + Fy cos(g) (spin creep gives Fy) for the
+      ! patch force along the normal; the distributed and the potential strip forces act
+      ! along their strips' depth gradients instead (test_hertz_strip, test_strip_potential,
+      ! test_wheelset_energy)
       do side = 1, 2
-        if (model == 'profile_potential') exit
+        if (model == 'profile' .or. model == 'profile_potential') exit
         associate (p => ws%results(1)%wheel(side)%patch(1), wf => ws%results(1)%wheel(side)%force_track)
           call check(abs(wf(3) - (p%normal_force * cos(p%contact_angle) - p%fy * sin(p%contact_angle))) < 1.0e-9_wp * weight &
                      .and. abs(wf(2) - (p%normal_force * sin(p%contact_angle) + p%fy * cos(p%contact_angle))) < 1.0e-9_wp * weight, &

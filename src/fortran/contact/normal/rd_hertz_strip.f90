@@ -1,0 +1,145 @@
+!> The Hertz strip stiffness: the energy density per strip that makes a sum over
+!> longitudinal strips reproduce Hertz's normal contact exactly on every Hertzian gap
+!> (the distributed strip normal force, `strip_normal_force = 'distributed'`;
+!> docs/theory_flange_chatter.md section 14).
+!>
+!> A strip at lateral position s (arc length across the patch) with normal interference
+!> delta(s) stores U = c delta^2 per unit width, so the whole contact stores
+!> U = int c delta_+(s)^2 ds and the force on the wheel is minus its gradient: every strip
+!> pushes along its own depth gradient with 2 c delta per unit width (a Winkler bed whose
+!> modulus depends on the local curvatures). For a Hertzian gap delta = delta_0 - B s^2
+!> (B the lateral relative curvature, A the rolling one):
+!>    int delta_+^2 ds = (16/15) delta_0^(5/2) / sqrt(B),
+!> and Hertz's energy is (2/5) k_h delta_0^(5/2) (N = k_h delta_0^(3/2)), so
+!>    c = (3/8) k_h sqrt(B),
+!> and with k_h = E*/3 G / sqrt(4 (A + B)) (rd_hertz, G a function of B/A only)
+!>    c = E* phi(ln(B/A)),   phi(x) = G(|x|) sqrt(e^x / (1 + e^x)) / 16.
+!> Then sum 2 c delta = (8/3) c delta_0^(3/2) / sqrt(B) = k_h delta_0^(3/2): Hertz's force.
+!> phi is 0.35 at x = 0 (B = A), 0.13 at B = A / 1000 (laterally conformal) and grows like
+!> (B/A)^0.4 for narrow patches (4.0 at B = 1000 A).
+!>
+!> phi is tabulated once (elliptic integrals through rd_hertz) over x in [-x_max, x_max]
+!> and read by cubic Hermite interpolation, C1 with its derivative, so that the force,
+!> which contains delta^2 dc/d(pose), stays continuous.
+module rd_hertz_strip
+  use rd_kinds, only: wp
+  use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration, HERTZ_METHOD_ELLIPTIC
+  implicit none
+  private
+  public :: fill_strip_stiffness_table, strip_stiffness, strip_depth_energy
+
+  !> Relative curvatures are floored smoothly at this value (equivalent radius 1/(2 floor)
+  !> = 20 m, the order of rd_hertz's default clamp) so that conformal and concave gaps keep
+  !> a finite, smooth stiffness
+  real(wp), parameter, public :: strip_curvature_floor = 0.025_wp
+
+  !> Depth over which a strip's energy density eases in from zero (strip_depth_energy) [m]:
+  !> far below the approaches of loaded wheels (10-100 um), far above round-off
+  real(wp), parameter, public :: strip_onset_depth = 1.0e-6_wp
+
+  integer, parameter :: nodes = 2049
+  real(wp), parameter :: x_max = 16.0_wp          ! |ln(B/A)| <= 16 (ratios up to 9e6)
+  real(wp), save :: table(nodes) = 0              ! phi at x_j = -x_max + (j - 1) h
+  logical, save :: table_filled = .false.
+
+contains
+
+  !> Fill the table (once per process; later calls return at once). Not pure: call it
+  !> when the model is built, before any strip_stiffness.
+  subroutine fill_strip_stiffness_table()
+    type(hertz_params_t) :: unit
+    type(hertz_patch_t) :: hp
+    real(wp) :: x, b
+    integer :: j
+    if (table_filled) return
+    unit = hertz_params_t(e_star=1.0_wp, curvature_min=1.0e-300_wp, method=HERTZ_METHOD_ELLIPTIC)
+    do j = 1, nodes
+      x = -x_max + 2 * x_max * (j - 1) / (nodes - 1)
+      b = exp(x)
+      ! curvatures (wheel rolling, wheel lateral, rail rolling, rail lateral) with A = 1,
+      ! B = e^x: rd_hertz halves the sums
+      call hertz_from_penetration(unit, [2.0_wp, 2 * b, 0.0_wp, 0.0_wp], 1.0_wp, hp)
+      table(j) = 0.375_wp * hp%k_hertz * sqrt(b)
+    end do
+    table_filled = .true.
+  end subroutine fill_strip_stiffness_table
+
+  !> c / E* for the rolling and lateral relative curvatures a, b [1/m] (half the sums of
+  !> the two bodies' curvatures, + convex), each floored smoothly, and its partial
+  !> derivatives with respect to a and b.
+  pure subroutine strip_stiffness(a, b, phi, dphi_da, dphi_db)
+    real(wp), intent(in) :: a, b
+    real(wp), intent(out) :: phi, dphi_da, dphi_db
+    real(wp), parameter :: h = 2 * x_max / (nodes - 1)
+    real(wp) :: ac, bc, dac, dbc, x, t, d0, d1, dphi_dx
+    logical :: clamped
+    integer :: j
+    call floor_curvature(a, ac, dac)
+    call floor_curvature(b, bc, dbc)
+    x = log(bc / ac)
+    clamped = abs(x) > x_max
+    x = min(max(x, -x_max), x_max)
+    j = min(int((x + x_max) / h) + 1, nodes - 1)
+    t = (x + x_max) / h - (j - 1)
+    ! central-difference node slopes (one-sided at the ends), per unit t
+    if (j == 1) then
+      d0 = table(2) - table(1)
+    else
+      d0 = 0.5_wp * (table(j + 1) - table(j - 1))
+    end if
+    if (j + 1 == nodes) then
+      d1 = table(nodes) - table(nodes - 1)
+    else
+      d1 = 0.5_wp * (table(j + 2) - table(j))
+    end if
+    phi = ((2 * t - 3) * t * t + 1) * table(j) + (((t - 2) * t + 1) * t) * d0 &
+          + (t * t * (3 - 2 * t)) * table(j + 1) + (t * t * (t - 1)) * d1
+    dphi_dx = ((6 * t - 6) * t * table(j) + ((3 * t - 4) * t + 1) * d0 + (6 - 6 * t) * t * table(j + 1) &
+               + (3 * t - 2) * t * d1) / h
+    if (clamped) dphi_dx = 0          ! phi is held constant beyond the table
+    dphi_da = -dphi_dx * dac / ac
+    dphi_db = dphi_dx * dbc / bc
+  end subroutine strip_stiffness
+
+  !> A strip's energy density per unit c and width, s(delta), and its derivative: delta^2
+  !> from the onset depth e = strip_onset_depth on, and below it e^2 p(delta / e) with
+  !> p(t) = 3 t^3 - 3 t^4 + t^5, the quintic with p = p' = p'' = 0 at t = 0 and p = 1,
+  !> p' = 2, p'' = 2 at t = 1: s is C2, so the force (its gradient) stays C1 where a strip
+  !> comes into contact (with delta_+^2 each strip's onset was a kink of the force: the
+  !> strips sample the gap, and on a near-conformal gap its edge crosses a strip every few
+  !> tenths of a micrometre of wheelset shift). p' = t^2 (9 - 12 t + 5 t^2) > 0 and p'' > 0
+  !> for t > 0: the force pushes and grows with the depth. Hertz's calibration (phi) is
+  !> untouched for delta >= e; shallower strips carry less (p <= t^2), which changes the
+  !> total of a Hertzian gap by ~ (3/8) (e / delta_0)^2 (2e-4 at 40 um).
+  elemental subroutine strip_depth_energy(delta, s, ds)
+    real(wp), intent(in) :: delta
+    real(wp), intent(out) :: s, ds
+    real(wp) :: t
+    if (delta >= strip_onset_depth) then
+      s = delta * delta
+      ds = 2 * delta
+    else if (delta > 0) then
+      t = delta / strip_onset_depth
+      s = strip_onset_depth**2 * t**3 * (3 + t * (-3 + t))
+      ds = strip_onset_depth * t**2 * (9 + t * (-12 + 5 * t))
+    else
+      s = 0
+      ds = 0
+    end if
+  end subroutine strip_depth_energy
+
+  !> Smooth floor: 0.5 (k + sqrt(k^2 + 4 f^2)) -> k for k >> f, f at k = 0, -> f^2 / |k| for
+  !> concave k << -f; and its derivative. (A softplus floor, f ln(1 + e^(k/f)), closer to k
+  !> above f, sends concave curvatures to e^(k/f) f, beyond the table: phi's argument was
+  !> clamped there, and the scene runs depended on the floor's shape; this one keeps
+  !> ln(B/A) > -10 for |k| < 1 1/m.)
+  pure subroutine floor_curvature(k, kc, dkc)
+    real(wp), intent(in) :: k
+    real(wp), intent(out) :: kc, dkc
+    real(wp) :: root
+    root = sqrt(k * k + 4 * strip_curvature_floor**2)
+    kc = 0.5_wp * (k + root)
+    dkc = 0.5_wp * (1 + k / root)
+  end subroutine floor_curvature
+
+end module rd_hertz_strip
