@@ -9,7 +9,7 @@ module rd_test_support
   use rd_error, only: error_t
   implicit none
   private
-  public :: check, check_close, check_status, stop_on, fail, failure_count, test_summary, file_text
+  public :: check, check_close, check_within, check_status, stop_on, fail, failure_count, test_summary, file_text
 
   integer :: n_checks = 0
   integer :: n_failures = 0
@@ -74,6 +74,15 @@ contains
       error stop 1
     end if
   end subroutine stop_on
+
+  !> Pass if |value| <= bound; the value and the bound are printed with `what`.
+  subroutine check_within(what, value, bound)
+    character(len=*), intent(in) :: what
+    real(wp), intent(in) :: value, bound
+    character(len=24) :: text
+    write (text, '(es10.3,a,es9.2)') value, ' / ', bound
+    call check(abs(value) <= bound, what // ' = ' // trim(text))
+  end subroutine check_within
 
   !> Count one failed check: described by `what`, or printed by the caller (formatted numbers).
   subroutine fail(what)

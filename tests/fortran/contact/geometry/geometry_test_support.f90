@@ -1,11 +1,23 @@
 !> Helpers shared by the contact-geometry tests: a check that stops the test program with a message, and closed-form test profiles
-!> (a conical wheel, a circular rail head) with the rail-head centre of their placement.
+!> (a conical wheel, a circular rail head) with the rail-head centre of their placement; the poses of the strip forces'
+!> gradient checks.
 module geometry_test_support
   use rd_kinds, only: wp
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL
   implicit none
   private
   public :: cone_wheel_profile, circle_rail_profile, circle_rail_centre_y
+  public :: gradient_pose_y, gradient_pose_yaw, gradient_pose_name, gradient_pose_side
+
+  !> Single-patch poses of the Manchester wheelset (S1002 / 60E1 1:40) where the strip
+  !> forces' gradients are checked: tread, flange root, the flange root / flange jump and the
+  !> flange of the left wheel, yawed, and the right wheel on its tread and its flange (lateral
+  !> shift [m], yaw [rad], label, side: 1 left, 2 right as rd_contact_geometry's SIDE_*)
+  real(wp), parameter :: gradient_pose_y(6) = [3.0e-3_wp, 6.0e-3_wp, 6.25e-3_wp, 7.0e-3_wp, 6.25e-3_wp, -6.25e-3_wp]
+  real(wp), parameter :: gradient_pose_yaw(6) = [8.5e-3_wp, 8.5e-3_wp, 1.4e-2_wp, 8.5e-3_wp, 1.4e-2_wp, -1.4e-2_wp]
+  character(len=*), parameter :: gradient_pose_name(6) = [character(len=32) :: 'tread 3.0 mm', 'flange root 6.0 mm', &
+    'flange root / flange 6.25 mm', 'flange 7.0 mm', 'right wheel, tread at 6.25 mm', 'right wheel, flange at -6.25 mm']
+  integer, parameter :: gradient_pose_side(6) = [1, 1, 1, 1, 2, 2]
 
 contains
 

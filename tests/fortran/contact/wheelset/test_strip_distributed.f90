@@ -21,37 +21,27 @@ program test_strip_distributed
   use rd_error, only: error_t
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, build_contact_geometry, build_hertz_params
   use rd_contact_geometry, only: contact_geometry_t, wheel_contact, SIDE_LEFT, SIDE_RIGHT
-  use geometry_test_support, only: cone_wheel_profile, circle_rail_profile
+  use strip_force_test_support, only: cone_on_circle
+  use geometry_test_support, only: gradient_pose_y, gradient_pose_yaw, &
+    gradient_pose_name, gradient_pose_side
   use rd_contact_patch, only: wheel_contact_t
   use rd_rigid_contact, only: rigid_contact
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration
-  use rd_test_support, only: fail, check, test_summary
+  use rd_test_support, only: fail, check, check_within, test_summary
   implicit none
   type(wheelset_contact_spec_t) :: spec
-  type(contact_geometry_t) :: geo, geo_classic
+  type(contact_geometry_t) :: geo
   type(hertz_params_t) :: hertz
   type(hertz_patch_t) :: hp
   type(error_t), allocatable :: error
   type(wheel_contact_t) :: res, res_c
-  real(wp) :: z, phi, n_strips, g, rr
+  real(wp) :: n_strips, g, rr
+  integer :: ip
 
   ! 1. cone on a circular rail head
-  call cone_wheel_profile(0.05_wp, spec%wheel_profile_data)
-  call circle_rail_profile(0.3_wp, spec%rail_profile_data)
-  spec%wheel_profile = 'cone'
-  spec%rail_profile = 'circle'
-  spec%strip_normal_force = 'centroid'
-  call build_contact_geometry(spec, geo_classic, error)
-  if (allocated(error)) error stop error%message
-  spec%strip_normal_force = 'distributed'
-  call build_contact_geometry(spec, geo, error)
-  if (allocated(error)) error stop error%message
+  call cone_on_circle('distributed', spec, res, res_c)
   call build_hertz_params(spec, hertz, error)
   if (allocated(error)) error stop error%message
-  call rigid_contact(geo, 0.0_wp, 0.0_wp, z, phi, error)
-  if (allocated(error)) error stop error%message
-  call wheel_contact(geo, SIDE_LEFT, 0.0_wp, z - 3.0e-5_wp, phi, 0.0_wp, res)
-  call wheel_contact(geo_classic, SIDE_LEFT, 0.0_wp, z - 3.0e-5_wp, phi, 0.0_wp, res_c)
   if (res%n_patches /= 1 .or. res_c%n_patches /= 1 .or. .not. allocated(res%distributed) &
       .or. allocated(res_c%distributed)) then
     write (*, '(a,2i3)') 'FAIL  cone on circle: expected one patch each and the distributed data as selected, got ', &
@@ -64,12 +54,12 @@ program test_strip_distributed
     n_strips = hertz%e_star * norm2(res%distributed%force)
     write (*, '(a,es12.5,a,es12.5,a,3f10.6)') '      cone on circle: strip load ', n_strips, ' N, Hertz ', &
       hp%normal_force, ' N; direction ', res%distributed%force / norm2(res%distributed%force)
-    call check_value('cone on circle: strip load / Hertz load - 1', n_strips / hp%normal_force - 1, 1.0e-2_wp)
-    call check_value('cone on circle: strip energy / ((2/5) N delta0) - 1', hertz%e_star * res%distributed%energy / &
+    call check_within('cone on circle: strip load / Hertz load - 1', n_strips / hp%normal_force - 1, 1.0e-2_wp)
+    call check_within('cone on circle: strip energy / ((2/5) N delta0) - 1', hertz%e_star * res%distributed%energy / &
                      (0.4_wp * hp%normal_force * res_c%patch(1)%penetration) - 1, 1.0e-2_wp)
-    call check_value('cone on circle: |force direction - cone normal|', norm2(res%distributed%force &
+    call check_within('cone on circle: |force direction - cone normal|', norm2(res%distributed%force &
                      / norm2(res%distributed%force) - [0.0_wp, -sin(g), cos(g)]), 1.0e-3_wp)
-    call check_value('cone on circle: the patch''s load / the strips'' load - 1', &
+    call check_within('cone on circle: the patch''s load / the strips'' load - 1', &
                      res%distributed%patch_load(1) / norm2(res%distributed%force) - 1, 1.0e-3_wp)
   end if
 
@@ -80,24 +70,13 @@ program test_strip_distributed
   spec%strip_normal_force = 'distributed'
   call build_contact_geometry(spec, geo, error)
   if (allocated(error)) error stop error%message
-  call gradient_check(3.0e-3_wp, 8.5e-3_wp, 'tread 3.0 mm', SIDE_LEFT)
-  call gradient_check(6.0e-3_wp, 8.5e-3_wp, 'flange root 6.0 mm', SIDE_LEFT)
-  call gradient_check(6.25e-3_wp, 1.4e-2_wp, 'flange root / flange 6.25 mm', SIDE_LEFT)
-  call gradient_check(7.0e-3_wp, 8.5e-3_wp, 'flange 7.0 mm', SIDE_LEFT)
-  call gradient_check(6.25e-3_wp, 1.4e-2_wp, 'right wheel, tread at 6.25 mm', SIDE_RIGHT)
-  call gradient_check(-6.25e-3_wp, -1.4e-2_wp, 'right wheel, flange at -6.25 mm', SIDE_RIGHT)
+  do ip = 1, size(gradient_pose_y)
+    call gradient_check(gradient_pose_y(ip), gradient_pose_yaw(ip), trim(gradient_pose_name(ip)), &
+      merge(SIDE_LEFT, SIDE_RIGHT, gradient_pose_side(ip) == 1))
+  end do
   call test_summary('test_strip_distributed')
 
 contains
-
-  !> value within +-bound, printed (rd_test_support's check counts it)
-  subroutine check_value(what, value, bound)
-    character(len=*), intent(in) :: what
-    real(wp), intent(in) :: value, bound
-    character(len=24) :: text
-    write (text, '(es10.3,a,es9.2)') value, ' / ', bound
-    call check(abs(value) <= bound, what // ' = ' // trim(text))
-  end subroutine check_value
 
   !> Central differences of the strip energy with respect to Y, Z, roll and yaw against the
   !> force (track frame) and the moment (intermediate frame: roll is about its x axis, yaw
@@ -127,7 +106,7 @@ contains
     end do
     write (*, '(a,i0,a,4es12.4,a,4es12.4)') '      ' // what // ' (', r%n_patches, ' patches): -F, -M analytic ', an, &
       ', dU differences ', fd
-    call check_value(what // ': |dU analytic - differences| / max', maxval(abs(an - fd)) / maxval(abs(fd)), 1.0e-3_wp)
+    call check_within(what // ': |dU analytic - differences| / max', maxval(abs(an - fd)) / maxval(abs(fd)), 1.0e-3_wp)
   end subroutine gradient_check
 
   real(wp) function energy(q, side) result(u)

@@ -20,41 +20,30 @@ program test_strip_potential
   use rd_error, only: error_t
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, build_contact_geometry
   use rd_contact_geometry, only: contact_geometry_t, wheel_contact, SIDE_LEFT, SIDE_RIGHT
-  use geometry_test_support, only: cone_wheel_profile, circle_rail_profile
+  use strip_force_test_support, only: cone_on_circle
+  use geometry_test_support, only: gradient_pose_y, gradient_pose_yaw, &
+    gradient_pose_name, gradient_pose_side
   use rd_contact_patch, only: wheel_contact_t
   use rd_rigid_contact, only: rigid_contact
-  use rd_test_support, only: fail, check, test_summary
+  use rd_test_support, only: fail, check, check_within, test_summary
   implicit none
   type(wheelset_contact_spec_t) :: spec
-  type(contact_geometry_t) :: geo, geo_classic
+  type(contact_geometry_t) :: geo
   type(error_t), allocatable :: error
   type(wheel_contact_t) :: res, res_c
-  real(wp) :: z, phi
+  integer :: ip
 
   ! 1. cone on a circular rail head
-  call cone_wheel_profile(0.05_wp, spec%wheel_profile_data)
-  call circle_rail_profile(0.3_wp, spec%rail_profile_data)
-  spec%wheel_profile = 'cone'
-  spec%rail_profile = 'circle'
-  spec%strip_normal_force = 'centroid'
-  call build_contact_geometry(spec, geo_classic, error)
-  if (allocated(error)) error stop error%message
-  spec%strip_normal_force = 'potential'
-  call build_contact_geometry(spec, geo, error)
-  if (allocated(error)) error stop error%message
-  call rigid_contact(geo, 0.0_wp, 0.0_wp, z, phi, error)
-  if (allocated(error)) error stop error%message
-  call wheel_contact(geo, SIDE_LEFT, 0.0_wp, z - 3.0e-5_wp, phi, 0.0_wp, res)
-  call wheel_contact(geo_classic, SIDE_LEFT, 0.0_wp, z - 3.0e-5_wp, phi, 0.0_wp, res_c)
+  call cone_on_circle('potential', spec, res, res_c)
   if (res%n_patches /= 1 .or. res_c%n_patches /= 1) then
     write (*, '(a,2i3)') 'FAIL  cone on circle: expected one patch each, got ', res%n_patches, res_c%n_patches
     call fail()
   else
     write (*, '(a,3f10.6,a,2es12.4)') '      cone on circle: force direction ', res%potential(1)%force_dir, &
       ', E, refined peak ', res%patch(1)%penetration, res_c%patch(1)%penetration
-    call check_value('cone on circle: E / refined peak - 1', res%patch(1)%penetration / res_c%patch(1)%penetration - 1, &
+    call check_within('cone on circle: E / refined peak - 1', res%patch(1)%penetration / res_c%patch(1)%penetration - 1, &
                1.0e-2_wp)
-    call check_value('cone on circle: |force direction - cone normal|', norm2(res%potential(1)%force_dir - &
+    call check_within('cone on circle: |force direction - cone normal|', norm2(res%potential(1)%force_dir - &
                [0.0_wp, -0.05_wp, 1.0_wp] / sqrt(1 + 0.05_wp**2)), 1.0e-3_wp)
     if (.not. allocated(res%potential) .or. allocated(res_c%potential)) then
       write (*, '(a)') 'FAIL  the potential data not present as selected'
@@ -72,25 +61,13 @@ program test_strip_potential
 
   ! 2. gradients at single-patch poses on the tread, flange root, root / face jump and flange,
   ! yawed, both wheels
-  call full_gradient_check(3.0e-3_wp, 8.5e-3_wp, 'tread 3.0 mm', SIDE_LEFT)
-  call full_gradient_check(6.0e-3_wp, 8.5e-3_wp, 'flange root 6.0 mm', SIDE_LEFT)
-  call full_gradient_check(6.25e-3_wp, 1.4e-2_wp, 'flange root / flange 6.25 mm', SIDE_LEFT)
-  call full_gradient_check(7.0e-3_wp, 8.5e-3_wp, 'flange 7.0 mm', SIDE_LEFT)
-  call full_gradient_check(6.25e-3_wp, 1.4e-2_wp, 'right wheel, tread at 6.25 mm', SIDE_RIGHT)
-  call full_gradient_check(-6.25e-3_wp, -1.4e-2_wp, 'right wheel, flange at -6.25 mm', SIDE_RIGHT)
+  do ip = 1, size(gradient_pose_y)
+    call full_gradient_check(gradient_pose_y(ip), gradient_pose_yaw(ip), trim(gradient_pose_name(ip)), &
+      merge(SIDE_LEFT, SIDE_RIGHT, gradient_pose_side(ip) == 1))
+  end do
   call test_summary('test_strip_potential')
 
 contains
-
-  !> value within +-bound, printed (rd_test_support's check counts it)
-  subroutine check_value(what, value, bound)
-    character(len=*), intent(in) :: what
-    real(wp), intent(in) :: value, bound
-    character(len=24) :: text
-    write (text, '(es10.3,a,es9.2)') value, ' / ', bound
-    call check(abs(value) <= bound, what // ' = ' // trim(text))
-  end subroutine check_value
-
 
   !> Finite differences of E and of the three Hertz curvatures of the deepest patch with
   !> respect to Y, Z, roll and yaw against the patch's force_dir, force_moment, curv_grad.
@@ -115,7 +92,7 @@ contains
     k = 1
     ! along X (the extruded rail) E does not change: the direction's X component is zero (up
     ! to the neglected shift of the deepest points along the yawed lines)
-    call check_value(what // ': F(X)', r%potential(k)%force_dir(1), 2.0e-3_wp)
+    call check_within(what // ': F(X)', r%potential(k)%force_dir(1), 2.0e-3_wp)
     associate (p => r%patch(k), q => r%potential(k))
       ! analytic derivatives d/d(Y, Z, roll, yaw) of (E, kappa_wheel_roll, kappa_wheel_lat, kappa_rail_lat)
       an(1, :) = -[q%force_dir(2), q%force_dir(3), q%force_moment(1), &
@@ -142,11 +119,11 @@ contains
     ! the polygonal wheel's points, where the depths' slope factor kinks; a wrong sign or a
     ! missing term, as the shift along yawed lines was, is 100 %; below 1e-4 of (|kappa| + 1)
     ! per metre or radian the differences are rounding)
-    call check_value(what // ': |F(Y,Z) - (-dE/d(Y,Z))|', norm2(an(1, 1:2) - fd(1, 1:2)), 2.0e-3_wp)
-    call check_value(what // ': |dE analytic - differences| / max', maxval(abs(an(1, :) - fd(1, :))) / maxval(abs(fd(1, :))), &
+    call check_within(what // ': |F(Y,Z) - (-dE/d(Y,Z))|', norm2(an(1, 1:2) - fd(1, 1:2)), 2.0e-3_wp)
+    call check_within(what // ': |dE analytic - differences| / max', maxval(abs(an(1, :) - fd(1, :))) / maxval(abs(fd(1, :))), &
                2.0e-3_wp)
     do v = 2, 4
-      call check_value(what // ': curvature ' // achar(iachar('0') + v - 1) // ' derivatives, worst relative error', &
+      call check_within(what // ': curvature ' // achar(iachar('0') + v - 1) // ' derivatives, worst relative error', &
                  maxval(abs(an(v, :) - fd(v, :)) / (abs(fd(v, :)) + 1.0e-3_wp * maxval(abs(fd(v, :))) + 1.0e-4_wp * scale(v))), &
                  0.1_wp)
     end do

@@ -55,39 +55,26 @@ program test_wheelset_energy
   !> loops: planes of (q_i, q_j) and amplitudes (y 0.1 mm, z 0.05 mm, roll 0.1 mrad)
   integer, parameter :: planes(2, 3) = reshape([2, 3, 3, 5, 2, 5], [2, 3])
   real(wp), parameter :: amp(6) = [0.0_wp, 1.0e-4_wp, 5.0e-5_wp, 0.0_wp, 1.0e-4_wp, 0.0_wp]
-  type(wheelset_contact_spec_t) :: spec, spec0, specc, specc0, specd, specd0
+  type(wheelset_contact_spec_t) :: specs(6)
+  character(len=*), parameter :: forces(3) = [character(len=11) :: 'potential', 'centroid', 'distributed']
   type(wheelset_contact_t) :: ws
   type(error_t), allocatable :: error
   type(circle_track_t) :: straight
   real(wp) :: q(6), y_cases(4), ratio
-  integer :: ic
+  integer :: ic, im
 
-  spec%body = 1
-  spec%wheel_profile = 's1002'
-  spec%rail_profile = '60e1'
-  spec%nominal_radius = r0
-  spec%creep_law = 'fastsim'
-  spec%friction = 0.4_wp
-  ! models: 1 the energy-consistent strip force, friction 0.4; 2 the same, friction 0; 3 and
-  ! 4 the classic strip force (centroid, the default), friction 0.4 and 0
-  spec%strip_normal_force = 'potential'
-  spec0 = spec
-  spec0%body = 2
-  spec0%friction = 0
-  specc = spec
-  specc%body = 3
-  specc%strip_normal_force = 'centroid'
-  specc0 = spec0
-  specc0%body = 4
-  specc0%strip_normal_force = 'centroid'
-  ! 5 and 6 the distributed strip force, friction 0.4 and 0
-  specd = specc
-  specd%body = 5
-  specd%strip_normal_force = 'distributed'
-  specd0 = specc0
-  specd0%body = 6
-  specd0%strip_normal_force = 'distributed'
-  call ws%build([spec, spec0, specc, specc0, specd, specd0], 6, error)
+  ! models: 1 and 2 the energy-consistent patch force (potential), friction 0.4 and 0; 3 and 4
+  ! the centroid force; 5 and 6 the distributed force (the default)
+  do im = 1, size(specs)
+    specs(im)%body = im
+    specs(im)%wheel_profile = 's1002'
+    specs(im)%rail_profile = '60e1'
+    specs(im)%nominal_radius = r0
+    specs(im)%creep_law = 'fastsim'
+    specs(im)%friction = merge(0.4_wp, 0.0_wp, mod(im, 2) == 1)
+    specs(im)%strip_normal_force = forces((im + 1) / 2)
+  end do
+  call ws%build(specs, size(specs), error)
   if (allocated(error)) error stop error%message
 
   call normal_motion_is_no_slip()
