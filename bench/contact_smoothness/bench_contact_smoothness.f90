@@ -64,6 +64,7 @@ program bench_contact_smoothness
     'strips 0.2 mm, FASTSIM 20x20 | creep_law=fastsim fastsim_grid=20', &
     'strips 0.2 mm, Polach | creep_law=polach', &
     'strips 0.2 mm, linear | creep_law=linear', &
+    'strips 0.2 mm, FASTSIM 10x10, centroid normal force | creep_law=fastsim fastsim_grid=10 strip_normal_force=centroid', &
     'strips 0.2 mm, FASTSIM 10x10, potential normal force | creep_law=fastsim fastsim_grid=10 strip_normal_force=potential', &
     'tables of strips 0.2 mm, FASTSIM 10x10 | contact_geometry=table creep_law=fastsim fastsim_grid=10']
   character(len=*), parameter :: creep_levels(*) = [character(len=120) :: &

@@ -109,8 +109,11 @@ POLACH = {"creep_law": "polach"}
 TABLE = {"contact_geometry": "table"}
 STRIPS = {"contact_geometry": "strips"}
 STRIPS_FINE = {"contact_geometry": "strips", "strip_spacing": 1.0e-4}
-#: the energy-consistent strip force (docs/theory_flange_chatter.md section 13)
+#: the energy-consistent patch force (docs/theory_flange_chatter.md section 13)
 STRIPS_POTENTIAL = {"contact_geometry": "strips", "strip_normal_force": "potential"}
+#: the patch force along the centroid's normal, the online strips' default until session 16
+#: (the strips levels above take the default: the distributed force, section 14)
+STRIPS_CENTROID = {"contact_geometry": "strips", "strip_normal_force": "centroid"}
 
 
 @dataclass
@@ -234,6 +237,7 @@ def vehicles() -> list[Vehicle]:
     man = [Level("table linear+SHE", {**TABLE, **LINEAR_SHE}), Level("table polach", {**TABLE, **POLACH}),
            Level("table fastsim", {**TABLE, **FASTSIM}), Level("strips 0.2 mm fastsim", {**STRIPS, **FASTSIM}),
            Level("strips 0.1 mm fastsim", {**STRIPS_FINE, **FASTSIM}),
+           Level("strips 0.2 mm fastsim centroid", {**STRIPS_CENTROID, **FASTSIM}),
            Level("strips 0.2 mm fastsim potential", {**STRIPS_POTENTIAL, **FASTSIM}),
            Level("table fastsim elastic", {**TABLE, **FASTSIM, "normal_contact": "elastic"}, {"max_order": 0}),
            Level("table fastsim, adams", {**TABLE, **FASTSIM}, {"method": "adams", "max_order": 0}),
@@ -242,6 +246,7 @@ def vehicles() -> list[Vehicle]:
     tgvp = [Level("table linear+SHE", {**TABLE, **LINEAR_SHE}), Level("table polach", {**TABLE, **POLACH}),
             Level("table fastsim", {**TABLE, **FASTSIM}), Level("strips 0.2 mm fastsim", {**STRIPS, **FASTSIM}),
             Level("strips 0.1 mm fastsim", {**STRIPS_FINE, **FASTSIM}),
+            Level("strips 0.2 mm fastsim centroid", {**STRIPS_CENTROID, **FASTSIM}),
             Level("strips 0.2 mm fastsim potential", {**STRIPS_POTENTIAL, **FASTSIM}),
             Level("table fastsim quasi-static", {**TABLE, **FASTSIM, "normal_contact": "quasi_static"})]
     knife = [Level("knife edge linear", {"creep_law": "linear"}, not_for={**FRICTION_SCENES, **DEFICIENCY_SCENES}),

@@ -131,7 +131,11 @@ def scene_list():
                   f"{TABLE}, {FASTSIM}, normal_contact = 'elastic'", "max_order = 0"),
             Level("strips 0.2 mm fastsim elastic", "strips 0.2 mm", "fastsim", "elastic", "bdf",
                   f"{STRIPS}, {FASTSIM}, normal_contact = 'elastic'", "max_order = 0"),
-            # the energy-consistent strip force (docs/theory_flange_chatter.md section 13)
+            # the patch normal force along the centroid's normal (the default before the
+            # distributed one) and the energy-consistent patch force
+            # (docs/theory_flange_chatter.md sections 13, 14)
+            Level("strips 0.2 mm fastsim centroid", "strips 0.2 mm", "fastsim", qs, "bdf",
+                  f"{STRIPS}, {FASTSIM}, strip_normal_force = 'centroid'"),
             Level("strips 0.2 mm fastsim potential", "strips 0.2 mm", "fastsim", qs, "bdf",
                   f"{STRIPS}, {FASTSIM}, strip_normal_force = 'potential'"),
             Level("reference", "strips 0.1 mm", "fastsim", qs, "bdf rtol 1e-7",
@@ -140,6 +144,8 @@ def scene_list():
                list(LAWS), "elastic")
     tgv += [Level("table fastsim quasi-static", "table", "fastsim", qs, "bdf",
                   f"{TABLE}, {FASTSIM}, normal_contact = 'quasi_static'"),
+            Level("strips 0.2 mm fastsim centroid", "strips 0.2 mm", "fastsim", "elastic", "bdf",
+                  f"{STRIPS}, {FASTSIM}, strip_normal_force = 'centroid'"),
             Level("strips 0.2 mm fastsim potential", "strips 0.2 mm", "fastsim", "elastic", "bdf",
                   f"{STRIPS}, {FASTSIM}, strip_normal_force = 'potential'"),
             Level("reference", "strips 0.1 mm", "fastsim", "elastic", "bdf rtol 1e-7",
