@@ -1,5 +1,8 @@
-!> An energy-consistent normal force for the strip contact (docs/theory_flange_chatter.md
-!> section 6; selected by `strip_normal_force = 'potential'`).
+!> The strip geometry of the conservative strip normal forces: one strip's depth gradient
+!> (its force direction), the shift of its deepest point, the wheel's curvatures and smooth
+!> radius at it (used by the distributed force, the default: rd_strip_contact
+!> distributed_force, docs/theory_flange_chatter.md section 14), and the effective
+!> penetration of the patch force `strip_normal_force = 'potential'` (sections 6 and 13).
 !>
 !> The classic strip force (rd_strip_contact) takes the refined peak as the penetration and
 !> applies the Hertz force along the rail normal at the centroid of the virtual-penetration
