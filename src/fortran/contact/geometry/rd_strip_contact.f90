@@ -16,7 +16,7 @@ module rd_strip_contact
   use rd_contact_patch, only: patch_geometry_t, patch_potential_t, strip_normal_t, wheel_contact_t, MAX_PATCHES, &
     PATCH_TREAD, PATCH_FLANGE, PATCH_FLANGE_BACK
   use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
-  use rd_hertz_strip, only: strip_stiffness, strip_depth_energy
+  use rd_hertz_strip, only: strip_stiffness, interval_energy
   use rd_strip_potential, only: effective_penetration, strip_force_direction, region_mean, wheel_point_curvatures, &
     deepest_point_py_gradient, smooth_strip_depth
   implicit none
@@ -168,6 +168,7 @@ contains
     if (use_distributed) then
       allocate (sload(ilo:ihi))
       call distributed_force(ifirst, ilast, sload, res%distributed)
+      call attach_edge_loads(sload)
     end if
     i = ifirst
     np = 0
@@ -190,55 +191,105 @@ contains
   contains
 
     !> The distributed strip normal force (rd_hertz_strip; docs/theory_flange_chatter.md
-    !> section 14): U = sum_i w_i c_i s(delta_i) over the penetrating strips (delta_i the
-    !> strip's depth into the smooth wheel, rd_strip_potential smooth_strip_depth; w_i the
-    !> rail arc length a strip stands for; c_i = E* phi(A_i, B_i) from the curvatures at its
-    !> deepest point: the wheel's rolling and lateral curvature there, the rail's lateral one
-    !> at the strip). Minus its gradient, per unit
-    !> E*: sum_i w_i (phi_i s'(delta_i) G_i - s(delta_i) grad phi_i) with s(delta) = delta^2
-    !> eased in at the onset (rd_hertz_strip strip_depth_energy), G_i = (g_i, p_i x g_i) the
-    !> strip's depth gradient (rd_strip_potential) and grad phi_i through the deepest
-    !> point's lateral position (its shift included). Force in the track frame, moment
-    !> about the wheelset centre in the intermediate frame.
+    !> section 14): U = int c delta_+^2 ds across the strips, as the sum over the intervals
+    !> between neighbouring strips of c h int ((1-t) delta_i + t delta_(i+1))_+^2 dt
+    !> (rd_hertz_strip interval_energy: the contact edge resolved inside the interval), c the
+    !> mean of the two strips' c_i = E* phi(A_i, B_i) (the curvatures at a strip's deepest
+    !> point: the wheel's rolling and lateral curvature there, the rail's lateral one at the
+    !> strip), h the rail arc length between them, delta_i a strip's depth into the smooth
+    !> wheel (rd_strip_potential smooth_strip_depth). Minus its gradient, per unit E*:
+    !> sum (c (q_a G_i + q_b G_(i+1)) - q grad c), G_i = (g_i, p_i x g_i) minus the strip
+    !> depth's gradient (rd_strip_potential) and grad c through the deepest points' lateral
+    !> positions (their shift included). Force in the track frame, moment about the wheelset
+    !> centre in the intermediate frame.
     pure subroutine distributed_force(i1, i2, sload, sn)
       integer, intent(in) :: i1, i2
-      !> each strip's load per unit E*, w_i phi_i s'(delta_i) (0 off contact)
+      !> each strip's load per unit E*, the derivative of U by its depth (0 off contact)
       real(wp), intent(inout) :: sload(ilo:)
       type(strip_normal_t), intent(inout) :: sn
-      real(wp) :: f(3), m(3), g(3), pp(3), gpy(6), gphi(6), k_roll, k_lat, dk_roll, dk_lat, ph, dph_da, dph_db, &
-                  w, x, dl, sd, dsd
-      integer :: i, j
-      f = 0; m = 0; sn%energy = 0
+      integer :: lo, hi, i, j
+      real(wp) :: gpy(6), k_roll, k_lat, dk_roll, dk_lat, dph_da, dph_db, x, h, c, q, qa, qb, gc(6), f6(6)
+      ! per strip: smooth depth, G = -grad depth (force, moment), phi and its gradient
+      real(wp) :: dep(ilo:ihi), gg(6, ilo:ihi), ph(ilo:ihi), gph(6, ilo:ihi)
+      logical :: have(ilo:ihi)
+      f6 = 0; sn%energy = 0
       sload = 0
       if (i1 < ilo) return               ! no strip in contact (i1 = 0)
-      ! two strips beyond the cones' contact region on either side: the smooth wheel reaches
-      ! up to ~h^2 / (8 R) (0.3 um) further than the cones (and its strips are evaluated)
-      do i = max(i1 - 2, ilo), min(i2 + 2, ihi)
-        if (.not. (delta(i) > -1.0e-5_wp)) cycle
+      ! the contact region's strips and two beyond on either side (evaluated by the search:
+      ! the smooth wheel reaches ~h^2 / (8 R), 0.3 um, further than the cones, and an edge
+      ! interval needs its outer strip)
+      lo = max(i1 - 2, ilo); hi = min(i2 + 2, ihi)
+      have = .false.
+      do i = lo, hi
+        if (.not. (delta(i) > -coarse_gap)) cycle      ! (interpolated strips: no deepest point)
+        have(i) = .true.
         j = jseg(i)
-        pp = pw(:, i)
-        call smooth_strip_depth(pp, delta(i), j, wheel%y, wheel%r, wheel%slope, dl, g)
-        if (.not. (dl > 0)) cycle
-        call wheel_point_curvatures(pp(2), j, wheel%y, wheel%k_roll, wheel%kappa, k_roll, k_lat, &
-                                    dk_roll, dk_lat)
+        call smooth_strip_depth(pw(:, i), delta(i), j, wheel%y, wheel%r, wheel%slope, dep(i), gg(1:3, i))
+        gg(4:6, i) = [pw(2, i) * gg(3, i) - pw(3, i) * gg(2, i), pw(3, i) * gg(1, i) - pw(1, i) * gg(3, i), &
+                      pw(1, i) * gg(2, i) - pw(2, i) * gg(1, i)]
+        call wheel_point_curvatures(pw(2, i), j, wheel%y, wheel%k_roll, wheel%kappa, k_roll, k_lat, dk_roll, dk_lat)
         ! half sums of the two bodies' curvatures (the straight rail has no rolling one)
-        call strip_stiffness(0.5_wp * k_roll, 0.5_wp * (k_lat + rail%kappa(i)), ph, dph_da, dph_db)
-        x = (pp(2) - wheel%y(j)) / (wheel%y(j + 1) - wheel%y(j))
-        gpy = deepest_point_py_gradient(pp, d, wheel%cone_slope(j), x > 1.0e-9_wp .and. x < 1 - 1.0e-9_wp)
-        gphi = 0.5_wp * (dph_da * dk_roll + dph_db * dk_lat) * gpy
-        w = rail%width(i)
-        ! s(delta) = delta^2 eased in over the first micrometre (rd_hertz_strip)
-        call strip_depth_energy(dl, sd, dsd)
-        sload(i) = w * ph * dsd
-        sn%energy = sn%energy + w * ph * sd
-        ! (p x g written out: the module function is not inlined across modules)
-        f = f + sload(i) * g - (w * sd) * gphi(1:3)
-        m = m + sload(i) * [pp(2) * g(3) - pp(3) * g(2), pp(3) * g(1) - pp(1) * g(3), pp(1) * g(2) - pp(2) * g(1)] &
-            - (w * sd) * gphi(4:6)
+        call strip_stiffness(0.5_wp * k_roll, 0.5_wp * (k_lat + rail%kappa(i)), ph(i), dph_da, dph_db)
+        x = (pw(2, i) - wheel%y(j)) / (wheel%y(j + 1) - wheel%y(j))
+        gpy = deepest_point_py_gradient(pw(:, i), d, wheel%cone_slope(j), x > 1.0e-9_wp .and. x < 1 - 1.0e-9_wp)
+        gph(:, i) = 0.5_wp * (dph_da * dk_roll + dph_db * dk_lat) * gpy
       end do
-      sn%force = matmul(f, bt)            ! B f: intermediate -> track frame
-      sn%moment = m
+      ! the intervals between neighbouring strips: U = c h int_0^1 ((1-t) a + t b)_+^2 dt with
+      ! c their mean stiffness (edge-resolving: C2 in the depths where the contact edge
+      ! crosses the interval, so no strip enters with a kink)
+      do i = lo, hi - 1
+        if (.not. (have(i) .and. have(i + 1))) cycle
+        if (.not. (dep(i) > 0 .or. dep(i + 1) > 0)) cycle
+        h = hypot(rail%y(i + 1) - rail%y(i), rail%z(i + 1) - rail%z(i))
+        call interval_energy(dep(i), dep(i + 1), h, q, qa, qb)
+        c = 0.5_wp * (ph(i) + ph(i + 1))
+        gc = 0.5_wp * (gph(:, i) + gph(:, i + 1))
+        sn%energy = sn%energy + c * q
+        sload(i) = sload(i) + c * qa
+        sload(i + 1) = sload(i + 1) + c * qb
+        f6 = f6 + c * (qa * gg(:, i) + qb * gg(:, i + 1)) - q * gc
+      end do
+      sn%force = matmul(f6(1:3), bt)      ! B f: intermediate -> track frame
+      sn%moment = f6(4:6)
     end subroutine distributed_force
+
+
+    !> The edge intervals put load on the strips just outside a run of the cones' contact
+    !> (their depth is <= 0 but their interval's positive part is not): move each such load
+    !> onto the nearest run's end strip (half to each where two runs are equally near), so
+    !> that the patches' loads add up to the strips' total and do not jump when a run grows
+    !> by a strip (the load stays in the same patch).
+    pure subroutine attach_edge_loads(sl)
+      real(wp), intent(inout) :: sl(ilo:)
+      integer :: i, k, kl, kr
+      do i = ilo, ihi
+        if (pos(i) .or. sl(i) == 0) cycle
+        kl = 0; kr = 0
+        do k = 1, 3
+          if (kl == 0 .and. i - k >= ilo) then
+            if (pos(i - k)) kl = i - k
+          end if
+          if (kr == 0 .and. i + k <= ihi) then
+            if (pos(i + k)) kr = i + k
+          end if
+        end do
+        if (kl > 0 .and. kr > 0) then
+          if (i - kl < kr - i) then
+            kr = 0
+          else if (i - kl > kr - i) then
+            kl = 0
+          end if
+        end if
+        if (kl > 0 .and. kr > 0) then
+          sl(kl) = sl(kl) + 0.5_wp * sl(i); sl(kr) = sl(kr) + 0.5_wp * sl(i)
+          sl(i) = 0
+        else if (kl > 0) then
+          sl(kl) = sl(kl) + sl(i); sl(i) = 0
+        else if (kr > 0) then
+          sl(kr) = sl(kr) + sl(i); sl(i) = 0
+        end if
+      end do
+    end subroutine attach_edge_loads
 
     !> The distributed normal load of the stretch a..b (per unit E*) between its bounds xl,
     !> xh: each strip i stands for [i - 1/2, i + 1/2] with a uniform load, and a stretch

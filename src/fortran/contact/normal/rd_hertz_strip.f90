@@ -20,22 +20,19 @@
 !>
 !> phi is tabulated once (elliptic integrals through rd_hertz) over x in [-x_max, x_max]
 !> and read by cubic Hermite interpolation, C1 with its derivative, so that the force,
-!> which contains delta^2 dc/d(pose), stays continuous.
+!> which contains delta^2 dc/d(pose), stays continuous. The strips sample the integral
+!> interval by interval (interval_energy), resolving the contact edge between two strips.
 module rd_hertz_strip
   use rd_kinds, only: wp
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration, HERTZ_METHOD_ELLIPTIC
   implicit none
   private
-  public :: fill_strip_stiffness_table, strip_stiffness, strip_depth_energy
+  public :: fill_strip_stiffness_table, strip_stiffness, interval_energy
 
   !> Relative curvatures are floored smoothly at this value (equivalent radius 1/(2 floor)
   !> = 20 m, the order of rd_hertz's default clamp) so that conformal and concave gaps keep
   !> a finite, smooth stiffness
   real(wp), parameter, public :: strip_curvature_floor = 0.025_wp
-
-  !> Depth over which a strip's energy density eases in from zero (strip_depth_energy) [m]:
-  !> far below the approaches of loaded wheels (10-100 um), far above round-off
-  real(wp), parameter, public :: strip_onset_depth = 1.0e-6_wp
 
   integer, parameter :: nodes = 2049
   real(wp), parameter :: x_max = 16.0_wp          ! |ln(B/A)| <= 16 (ratios up to 9e6)
@@ -101,32 +98,36 @@ contains
     dphi_db = dphi_dx * dbc / bc
   end subroutine strip_stiffness
 
-  !> A strip's energy density per unit c and width, s(delta), and its derivative: delta^2
-  !> from the onset depth e = strip_onset_depth on, and below it e^2 p(delta / e) with
-  !> p(t) = 3 t^3 - 3 t^4 + t^5, the quintic with p = p' = p'' = 0 at t = 0 and p = 1,
-  !> p' = 2, p'' = 2 at t = 1: s is C2, so the force (its gradient) stays C1 where a strip
-  !> comes into contact (with delta_+^2 each strip's onset was a kink of the force: the
-  !> strips sample the gap, and on a near-conformal gap its edge crosses a strip every few
-  !> tenths of a micrometre of wheelset shift). p' = t^2 (9 - 12 t + 5 t^2) > 0 and p'' > 0
-  !> for t > 0: the force pushes and grows with the depth. Hertz's calibration (phi) is
-  !> untouched for delta >= e; shallower strips carry less (p <= t^2), which changes the
-  !> total of a Hertzian gap by ~ (3/8) (e / delta_0)^2 (2e-4 at 40 um).
-  elemental subroutine strip_depth_energy(delta, s, ds)
-    real(wp), intent(in) :: delta
-    real(wp), intent(out) :: s, ds
-    real(wp) :: t
-    if (delta >= strip_onset_depth) then
-      s = delta * delta
-      ds = 2 * delta
-    else if (delta > 0) then
-      t = delta / strip_onset_depth
-      s = strip_onset_depth**2 * t**3 * (3 + t * (-3 + t))
-      ds = strip_onset_depth * t**2 * (9 + t * (-12 + 5 * t))
+  !> The energy of one interval between neighbouring strips per unit stiffness c: with the
+  !> depth interpolated linearly from a to b over the interval's width h,
+  !>    q = h int_0^1 ((1 - t) a + t b)_+^2 dt
+  !>      = h (a^2 + a b + b^2) / 3     (a, b > 0),   h a^3 / (3 (a - b))   (a > 0 >= b),
+  !> and its derivatives by a and b (the loads of the two strips). It resolves the contact
+  !> edge inside the interval, so that q is C2 in the depths where a strip comes into contact:
+  !> a strip's own delta_+^2 kinked the force at each onset, and on the flange face, where the
+  !> edge sweeps a strip in under a micrometre of shift, by up to 18 % of its slope
+  !> (docs/theory_flange_chatter.md section 14); an onset easing over 1 um kept the kinks, one
+  !> over 5 um removed them but took ~(3/8)(e/delta_0)^2 from a light patch's load. Summed over
+  !> a Hertzian gap it converges to int delta_+^2 ds with the strips' spacing.
+  elemental subroutine interval_energy(a, b, h, q, qa, qb)
+    real(wp), intent(in) :: a, b, h
+    real(wp), intent(out) :: q, qa, qb
+    if (a > 0 .and. b > 0) then
+      q = h * (a * a + a * b + b * b) / 3
+      qa = h * (2 * a + b) / 3
+      qb = h * (a + 2 * b) / 3
+    else if (a > 0) then
+      q = h * a**3 / (3 * (a - b))
+      qa = h * a * a * (2 * a - 3 * b) / (3 * (a - b)**2)
+      qb = h * a**3 / (3 * (a - b)**2)
+    else if (b > 0) then
+      q = h * b**3 / (3 * (b - a))
+      qb = h * b * b * (2 * b - 3 * a) / (3 * (b - a)**2)
+      qa = h * b**3 / (3 * (b - a)**2)
     else
-      s = 0
-      ds = 0
+      q = 0; qa = 0; qb = 0
     end if
-  end subroutine strip_depth_energy
+  end subroutine interval_energy
 
   !> Smooth floor: 0.5 (k + sqrt(k^2 + 4 f^2)) -> k for k >> f, f at k = 0, -> f^2 / |k| for
   !> concave k << -f; and its derivative. (A softplus floor, f ln(1 + e^(k/f)), closer to k

@@ -8,21 +8,26 @@
 !>    the load N = (2/3) pi a b p0 (K, E the complete elliptic integrals of modulus e),
 !>    scaled so that the smaller curvature is 1.1 1/m (a wheel's rolling one). Strips
 !>    across either axis with depths delta0 - C s^2 (C the curvature across the strips) must
-!>    carry sum w phi s'(delta_i) E* = N and store sum w phi s(delta_i) E* = (2/5) N delta0,
-!>    within 5e-4: the smooth curvature floor moves each curvature k by ~f^2 / k (f = 0.025
-!>    1/m: 5e-4 of 1.1 1/m) and phi by about 0.4 times that (measured 2.0e-4; without the
-!>    floor 3e-6, the strips' sampling and the onset easing).
+!>    carry N and store (2/5) N delta0, summed interval by interval (interval_energy: the
+!>    strips' loads are its derivatives), within 5e-4: the smooth curvature floor moves each
+!>    curvature k by ~f^2 / k (f = 0.025 1/m: 5e-4 of 1.1 1/m) and phi by about 0.4 times
+!>    that (measured 2.0e-4), the strips' sampling of the parabola adds less.
 !> 3. phi's partial derivatives against central differences; phi finite, positive and
 !>    continuous through conformal (B -> 0) and concave (B < 0) gaps.
-!> 4. The eased onset s(delta): C2 at the onset depth, s' > 0 and s <= delta^2 below it.
+!> 4. The interval energy (the strips' quadrature of int c delta_+^2 ds): against a
+!>    numerical integral of the positive part of the linear depth, its derivatives against
+!>    differences, and C2 where the contact edge enters the interval.
 program test_hertz_strip
   use rd_kinds, only: wp, pi
   use rd_elliptic_integrals, only: elliptic_ke
-  use rd_hertz_strip, only: fill_strip_stiffness_table, strip_stiffness, strip_depth_energy, strip_onset_depth
+  use rd_hertz_strip, only: fill_strip_stiffness_table, strip_stiffness, interval_energy
   use rd_test_support, only: check, check_close, test_summary
   implicit none
   real(wp), parameter :: e_star = 1.15e11_wp
   !> B / A of the derivative checks
+  !> the second depth b of the interval-energy checks (a = 20 um): both in contact, the edge
+  !> near b, b out of contact, b on the edge
+  real(wp), parameter :: b_cases(6) = [3.0e-5_wp, 2.0e-5_wp, 1.0e-6_wp, -1.0e-5_wp, -4.0e-5_wp, 0.0_wp]
   real(wp), parameter :: ratios(7) = [1.0e-3_wp, 0.05_wp, 0.3_wp, 1.0_wp, 4.0_wp, 60.0_wp, 2000.0_wp]
   real(wp) :: phi, dpa, dpb, ecc(5), worst_n, worst_u, worst_d, pp, pm, h, s0, s1, ds0, ds1, t, prev
   integer :: k, across, i
@@ -72,24 +77,37 @@ program test_hertz_strip
   end do
   call check(ok, 'phi positive, finite and continuous from B = 0.5 to B = -0.5 1/m (A = 1.1 1/m)')
 
-  ! the eased onset: C2 at the onset depth, monotone, below delta^2
-  h = 1.0e-4_wp * strip_onset_depth
-  call strip_depth_energy(strip_onset_depth - h, s0, ds0)
-  call strip_depth_energy(strip_onset_depth + h, s1, ds1)
-  call check(abs(s1 - s0 - 2 * strip_onset_depth * 2 * h) < 1.0e-6_wp * strip_onset_depth**2 .and. &
-             abs((ds1 - ds0) / (2 * h) - 2) < 1.0e-3_wp, 'onset easing: s, s'' and s'''' continuous at the onset depth')
-  ok = .true.
-  do i = 1, 200
-    t = i * strip_onset_depth / 200
-    call strip_depth_energy(t, s0, ds0)
-    call strip_depth_energy(t + h, s1, ds1)
-    ok = ok .and. ds0 > 0 .and. s0 <= t * t * (1 + 1.0e-12_wp) .and. ds1 >= ds0
+  ! the interval energy against a numerical integral of the positive part, and its
+  ! continuity where the contact edge enters the interval (b through 0)
+  worst_d = 0
+  do i = 1, 6
+    t = b_cases(i)
+    call interval_energy(2.0e-5_wp, t, 2.0e-4_wp, s0, pp, pm)
+    worst_d = max(worst_d, abs(s0 - positive_part_integral(2.0e-5_wp, t, 2.0e-4_wp)) / (2.0e-4_wp * 4.0e-10_wp))
+    ! derivatives by central differences
+    h = 1.0e-9_wp
+    call interval_energy(2.0e-5_wp + h, t, 2.0e-4_wp, s1, ds0, ds1)
+    call interval_energy(2.0e-5_wp - h, t, 2.0e-4_wp, prev, ds0, ds1)
+    worst_d = max(worst_d, abs((s1 - prev) / (2 * h) - pp) / (2.0e-4_wp * 2.0e-5_wp))
+    call interval_energy(2.0e-5_wp, t + h, 2.0e-4_wp, s1, ds0, ds1)
+    call interval_energy(2.0e-5_wp, t - h, 2.0e-4_wp, prev, ds0, ds1)
+    worst_d = max(worst_d, abs((s1 - prev) / (2 * h) - pm) / (2.0e-4_wp * 2.0e-5_wp))
   end do
-  call strip_depth_energy(0.0_wp, s0, ds0)
-  ok = ok .and. s0 == 0 .and. ds0 == 0
-  call strip_depth_energy(-1.0e-6_wp, s0, ds0)
-  ok = ok .and. s0 == 0 .and. ds0 == 0
-  call check(ok, 'onset easing: s'' > 0 and growing, s <= delta^2, zero out of contact')
+  print '(a,es10.2)', 'interval energy: worst relative difference to the integral and its differences ', worst_d
+  call check(worst_d < 1.0e-6_wp, 'interval energy = h int ((1-t) a + t b)_+^2 dt, derivatives = its differences')
+  ! C2 across b = 0: q, q_a, q_b and the second derivative by b on either side
+  h = 1.0e-12_wp
+  call interval_energy(2.0e-5_wp, -h, 2.0e-4_wp, s0, ds0, pm)
+  call interval_energy(2.0e-5_wp, h, 2.0e-4_wp, s1, ds1, pp)
+  ok = abs(s1 - s0) < 1.0e-6_wp * s1 .and. abs(ds1 - ds0) < 1.0e-6_wp * ds1 .and. abs(pp - pm) < 1.0e-6_wp * pp
+  call interval_energy(2.0e-5_wp, -1.0e-9_wp, 2.0e-4_wp, s0, ds0, pm)
+  call interval_energy(2.0e-5_wp, -2.0e-9_wp, 2.0e-4_wp, s0, ds0, prev)
+  call interval_energy(2.0e-5_wp, 1.0e-9_wp, 2.0e-4_wp, s1, ds1, pp)
+  call interval_energy(2.0e-5_wp, 2.0e-9_wp, 2.0e-4_wp, s1, ds1, t)
+  ok = ok .and. abs((pm - prev) / 1.0e-9_wp - (t - pp) / 1.0e-9_wp) < 1.0e-3_wp * abs((t - pp) / 1.0e-9_wp)
+  call interval_energy(-1.0e-6_wp, -2.0e-6_wp, 2.0e-4_wp, s0, ds0, ds1)
+  ok = ok .and. s0 == 0 .and. ds0 == 0 .and. ds1 == 0
+  call check(ok, 'interval energy C2 where the contact edge enters the interval, zero out of contact')
   call test_summary('test_hertz_strip')
 
 contains
@@ -101,7 +119,7 @@ contains
     logical, intent(in) :: across_minor
     integer, parameter :: n = 400
     real(wp), parameter :: a = 6.0e-3_wp, p0 = 1.0e9_wp
-    real(wp) :: b, kk, ee, scale, ca, cb, delta0, load, c_across, c_along, half, w, s, f, u, d, sd, dsd
+    real(wp) :: b, kk, ee, scale, ca, cb, delta0, load, c_across, c_along, half, w, s, f, u, d, sd, q, qa, qb
     integer :: j
     b = a * sqrt(1 - e * e)
     call elliptic_ke(sqrt(1 - e * e), kk, ee)     ! (its argument: the complementary modulus)
@@ -120,17 +138,34 @@ contains
     end if
     call strip_stiffness(c_along, c_across, phi, dpa, dpb)
     half = sqrt(delta0 / c_across)
+    ! strips 2 half / n apart across the patch and one beyond each edge, summed interval by
+    ! interval (the load: sum of the derivatives by each strip's depth)
     w = 2 * half / n
     f = 0; u = 0
-    do j = 1, n
-      s = -half + (j - 0.5_wp) * w
+    do j = 0, n
+      s = -half - 0.5_wp * w + j * w
       d = delta0 - c_across * s * s
-      call strip_depth_energy(d, sd, dsd)
-      f = f + w * phi * dsd * e_star
-      u = u + w * phi * sd * e_star
+      sd = delta0 - c_across * (s + w)**2
+      call interval_energy(d, sd, w, q, qa, qb)
+      f = f + phi * (qa + qb) * e_star
+      u = u + phi * q * e_star
     end do
     worst_n = max(worst_n, abs(f / load - 1))
     worst_u = max(worst_u, abs(u / (0.4_wp * load * delta0) - 1))
   end subroutine strip_sum
+
+  !> h int_0^1 ((1-t) a + t b)_+^2 dt by the midpoint rule on 20 000 points
+  real(wp) function positive_part_integral(a, b, h) result(q)
+    real(wp), intent(in) :: a, b, h
+    integer :: k
+    real(wp) :: t, v
+    q = 0
+    do k = 1, 20000
+      t = (k - 0.5_wp) / 20000
+      v = max((1 - t) * a + t * b, 0.0_wp)
+      q = q + v * v / 20000
+    end do
+    q = h * q
+  end function positive_part_integral
 
 end program test_hertz_strip

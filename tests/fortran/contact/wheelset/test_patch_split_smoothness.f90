@@ -11,9 +11,10 @@
 !> |second difference| of the wheel's summed creep forces Fx, Fy stays below `ratio_limit`
 !> times their median over the sweep. Measured: 12 and 10 (the C1 smoothstep ramp of the
 !> split fraction, whose second derivative jumps at the onset) with the centroid normal force;
-!> 7 and 15 with the distributed one (default), whose patch loads are its strips' and whose
-!> strips ease into contact with a C2 energy (with delta_+^2 each strip's onset was a kink:
-!> 31 and 82); the share^(2/3)-penetration patches with a linear ramp gave 1362 and 1901.
+!> 3.9 and 2.3 with the distributed one (default), whose patch loads are its strips' and
+!> whose energy resolves the contact edge between strips (a strip energy delta_+^2 kinked at
+!> each onset: 31 and 82; eased over 1 um: 7 and 15); the share^(2/3)-penetration patches with
+!> a linear ramp gave 1362 and 1901.
 program test_patch_split_smoothness
   use rd_kinds, only: wp
   use rd_error, only: error_t

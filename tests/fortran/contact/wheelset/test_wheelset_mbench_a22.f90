@@ -61,8 +61,8 @@
 !>   for a 10, 20, 40 um lowering (CONTACT: -16.03 mm at its approach of 19.5 um); loaded to
 !>   10 kN, our approach is 19.5 um there (the centroid force's: 21.5 um).
 !> - The approach at 10 kN per wheel (the normal model alone) within 12 % of CONTACT's
-!>   APPROACH (printed in mbench_a22_left/right.ref_out, read here): measured 10.1 % (case
-!>   12, right flange root; every left tread patch within 2.1 %); the centroid force 10.3 %.
+!>   APPROACH (printed in mbench_a22_left/right.ref_out, read here): measured 10.6 % (case
+!>   12, right flange root); the centroid force 10.3 %.
 program test_wheelset_mbench_a22
   use rd_kinds, only: wp
   use rd_error, only: error_t
