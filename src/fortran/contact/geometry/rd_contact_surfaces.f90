@@ -63,6 +63,8 @@ module rd_contact_surfaces
     real(wp), allocatable :: kappa(:)   !< smoothed profile curvature [1/m], + convex
     !> rail arc length each strip stands for: half its distances to its neighbours [m]
     real(wp), allocatable :: width(:)
+    !> distance from strip i to strip i + 1 (n - 1 values) [m]
+    real(wp), allocatable :: interval(:)
     real(wp) :: y_gauge_point = 0       !< Y of the gauge point (= gauge / 2)
     real(wp) :: u_gauge_point = 0       !< its rail profile coordinate
     integer :: coarse_stride = 1        !< strips per coarse step of the search (1.6 mm apart)
@@ -188,10 +190,11 @@ contains
     rail%y_gauge_point = 0.5_wp * placement%gauge
     rail%coarse_stride = max(1, min(8, int(1.6e-3_wp / options%rail_spacing + 1.0e-9_wp)))
     rail%u_gauge_point = ugp
-    allocate (rail%ny(m), rail%nz(m), rail%width(m))
+    allocate (rail%ny(m), rail%nz(m), rail%width(m), rail%interval(max(m - 1, 0)))
     rail%width = 0
     do i = 1, m - 1
-      tn = 0.5_wp * hypot(rail%y(i + 1) - rail%y(i), rail%z(i + 1) - rail%z(i))
+      rail%interval(i) = hypot(rail%y(i + 1) - rail%y(i), rail%z(i + 1) - rail%z(i))
+      tn = 0.5_wp * rail%interval(i)
       rail%width(i) = rail%width(i) + tn
       rail%width(i + 1) = rail%width(i + 1) + tn
     end do

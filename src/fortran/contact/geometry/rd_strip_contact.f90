@@ -210,8 +210,10 @@ contains
       integer :: lo, hi, i, j
       real(wp) :: gpy(6), k_roll, k_lat, dk_roll, dk_lat, dph_da, dph_db, x, h, c, q, qa, qb, gc(6), f6(6)
       ! per strip: smooth depth, G = -grad depth (force, moment), phi and its gradient
-      real(wp) :: dep(ilo:ihi), gg(6, ilo:ihi), ph(ilo:ihi), gph(6, ilo:ihi)
-      logical :: have(ilo:ihi)
+      ! (over the contact region and its margin only, not the whole window)
+      real(wp) :: dep(max(i1 - 2, ilo):min(i2 + 2, ihi)), gg(6, max(i1 - 2, ilo):min(i2 + 2, ihi)), &
+                  ph(max(i1 - 2, ilo):min(i2 + 2, ihi)), gph(6, max(i1 - 2, ilo):min(i2 + 2, ihi))
+      logical :: have(max(i1 - 2, ilo):min(i2 + 2, ihi))
       f6 = 0; sn%energy = 0
       sload = 0
       if (i1 < ilo) return               ! no strip in contact (i1 = 0)
@@ -240,7 +242,7 @@ contains
       do i = lo, hi - 1
         if (.not. (have(i) .and. have(i + 1))) cycle
         if (.not. (dep(i) > 0 .or. dep(i + 1) > 0)) cycle
-        h = hypot(rail%y(i + 1) - rail%y(i), rail%z(i + 1) - rail%z(i))
+        h = rail%interval(i)
         call interval_energy(dep(i), dep(i + 1), h, q, qa, qb)
         c = 0.5_wp * (ph(i) + ph(i + 1))
         gc = 0.5_wp * (gph(:, i) + gph(:, i + 1))
@@ -306,12 +308,6 @@ contains
         s = s + frac(i, xl, xh) * sload(i)
       end do
     end function stretch_load
-
-    !> Refined position of valley strip kv (interior of its stretch) relative to kv.
-    pure real(wp) function valley_offset(kv) result(x)
-      integer, intent(in) :: kv
-      x = valley_offset_of(delta, kv)
-    end function valley_offset
 
     !> Part of strip i's interval [i - 1/2, i + 1/2] inside [xl, xh].
     pure real(wp) function frac(i, xl, xh) result(f)
@@ -399,7 +395,7 @@ contains
         if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, xl, xh, np, patch, pot, sn, &
                                      (1 - lambda) * gw - wn * dlam)
         if (lambda > 0) then
-          xv = kv + valley_offset(kv)
+          xv = kv + valley_offset_of(delta, kv)
           top = top + 1
           lo(top) = a; hi(top) = kv; share(top) = wn * lambda; gshare(:, top) = lambda * gw + wn * dlam
           xlo(top) = xl; xhi(top) = xv
