@@ -55,9 +55,9 @@ program bench_contact_smoothness
 
   !> Fidelity levels: 'label | key=value ...' applied to the default spec (apply_setting).
   !> A new level is one line here (or --pose-level / --creep-level on the command line).
-  character(len=*), parameter :: pose_levels(*) = [character(len=120) :: &
+  character(len=*), parameter :: pose_levels(*) = [character(len=160) :: &
     'strips 0.4 mm, FASTSIM 10x10 | rail_spacing=4e-4 creep_law=fastsim fastsim_grid=10', &
-    'strips 0.2 mm, FASTSIM 10x10 (deck default) | rail_spacing=2e-4 creep_law=fastsim fastsim_grid=10', &
+    'strips 0.2 mm, FASTSIM 10x10 (the defaults) | rail_spacing=2e-4 creep_law=fastsim fastsim_grid=10', &
     'strips 0.1 mm, FASTSIM 10x10 | rail_spacing=1e-4 creep_law=fastsim fastsim_grid=10', &
     'strips 0.05 mm, FASTSIM 10x10 | rail_spacing=5e-5 creep_law=fastsim fastsim_grid=10', &
     'strips 0.2 mm, FASTSIM 5x5 | creep_law=fastsim fastsim_grid=5', &
@@ -66,14 +66,17 @@ program bench_contact_smoothness
     'strips 0.2 mm, linear | creep_law=linear', &
     'strips 0.2 mm, FASTSIM 10x10, centroid normal force | creep_law=fastsim fastsim_grid=10 strip_normal_force=centroid', &
     'strips 0.2 mm, FASTSIM 10x10, potential normal force | creep_law=fastsim fastsim_grid=10 strip_normal_force=potential', &
-    'tables of strips 0.2 mm, FASTSIM 10x10 | contact_geometry=table creep_law=fastsim fastsim_grid=10']
-  character(len=*), parameter :: creep_levels(*) = [character(len=120) :: &
+    'tables of strips 0.2 mm, FASTSIM 10x10 | contact_geometry=table creep_law=fastsim fastsim_grid=10', &
+    'strips 0.2 mm, FASTSIM 10x10 smooth clip 0.2 (acceptance deck) | creep_law=fastsim fastsim_grid=10 ' // &
+    'fastsim_saturation_width=0.2']
+  character(len=*), parameter :: creep_levels(*) = [character(len=160) :: &
     'linear | creep_law=linear', &
     'linear + Shen-Hedrick-Elkins | creep_law=linear creep_saturation=shen_hedrick_elkins', &
     'FASTSIM 5x5 | creep_law=fastsim fastsim_grid=5', &
     'FASTSIM 10x10 | creep_law=fastsim fastsim_grid=10', &
     'FASTSIM 20x20 | creep_law=fastsim fastsim_grid=20', &
     'FASTSIM 10x10, elliptic bound | creep_law=fastsim fastsim_grid=10 fastsim_bound=elliptic', &
+    'FASTSIM 10x10, smooth clip 0.2 | creep_law=fastsim fastsim_grid=10 fastsim_saturation_width=0.2', &
     'Polach | creep_law=polach']
 
   real(wp), parameter :: wheel_load = 55.0e3_wp   !< nominal vertical force per wheel Q0 [N]
@@ -138,8 +141,8 @@ program bench_contact_smoothness
     type(smoothness_feature_t) :: feature
     real(wp) :: relative = 0
   end type listed_feature_t
-  !> Index in pose_levels of the level listed feature by feature (the deck's default).
-  integer, parameter :: detail_level = 2
+  !> Index in pose_levels of the level listed feature by feature (the acceptance deck's model, the last).
+  integer, parameter :: detail_level = 12
   integer, parameter :: n_listed = 12
   type(listed_feature_t), allocatable :: listed(:)
 
@@ -236,6 +239,7 @@ contains
     case ('fastsim_grid')
       spec%creep_options%grid_nx = nint(real_setting(key, value)); spec%creep_options%grid_ny = spec%creep_options%grid_nx
     case ('fastsim_bound'); spec%creep_options%bound = value
+    case ('fastsim_saturation_width'); spec%creep_options%saturation_width = real_setting(key, value)
     case ('creep_saturation'); spec%creep_options%saturation = value
     case ('polach_ka'); spec%creep_options%polach_ka = real_setting(key, value)
     case ('polach_ks'); spec%creep_options%polach_ks = real_setting(key, value)
@@ -245,7 +249,7 @@ contains
     case ('friction'); spec%friction = real_setting(key, value)
     case default
       error stop 'bench_contact_smoothness: unknown level setting ''' // key // '''; expected model, ' // &
-        'contact_geometry, rail_spacing, wheel_spacing, curvature_sigma, creep_law, fastsim_grid, fastsim_bound, ' // &
+        'contact_geometry, rail_spacing, wheel_spacing, curvature_sigma, creep_law, fastsim_grid, fastsim_bound, fastsim_saturation_width, ' // &
         'strip_normal_force, ' // &
         'creep_saturation, polach_ka, ' // &
         'polach_ks, spin_creep, hertz_method or friction'

@@ -18,7 +18,7 @@ module rd_strip_contact
   use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
   use rd_hertz_strip, only: strip_stiffness, interval_energy
   use rd_strip_potential, only: effective_penetration, strip_force_direction, region_mean, wheel_point_curvatures, &
-    deepest_point_py_gradient, smooth_strip_depth
+    deepest_point_py_gradient, smooth_strip_depth, smooth_wheel_radius, lehmer_order
   implicit none
   private
   public :: strip_wheel_contact
@@ -49,8 +49,9 @@ contains
     !> the distributed strip normal force (rd_hertz_strip): res%distributed
     logical, intent(in), optional :: distributed
     logical :: full_search, use_potential, use_distributed
-    !> distributed force: each strip's normal load per unit E*, w_i phi_i s'(delta_i)
-    real(wp), allocatable :: sload(:)
+    !> distributed force: each strip's normal load per unit E*, w_i phi_i s'(delta_i), and its
+    !> depth into the smooth wheel (0 off contact; the patch points' weights)
+    real(wp), allocatable :: sload(:), sdepth(:)
     integer :: jprev
     real(wp) :: delta(rail%n), tline(rail%n), pw(3, rail%n)
     integer :: jseg(rail%n)
@@ -166,8 +167,8 @@ contains
     ! (docs/theory_contact_geometry.md, "Bumps within one run").
     ! the distributed normal force first: the patches take their loads from its strips
     if (use_distributed) then
-      allocate (sload(ilo:ihi))
-      call distributed_force(ifirst, ilast, sload, res%distributed)
+      allocate (sload(ilo:ihi), sdepth(ilo:ihi))
+      call distributed_force(ifirst, ilast, sload, sdepth, res%distributed)
       call attach_edge_loads(sload)
     end if
     i = ifirst
@@ -202,10 +203,11 @@ contains
     !> depth's gradient (rd_strip_potential) and grad c through the deepest points' lateral
     !> positions (their shift included). Force in the track frame, moment about the wheelset
     !> centre in the intermediate frame.
-    pure subroutine distributed_force(i1, i2, sload, sn)
+    pure subroutine distributed_force(i1, i2, sload, sdepth, sn)
       integer, intent(in) :: i1, i2
-      !> each strip's load per unit E*, the derivative of U by its depth (0 off contact)
-      real(wp), intent(inout) :: sload(ilo:)
+      !> each strip's load per unit E*, the derivative of U by its depth, and its depth into
+      !> the smooth wheel (both 0 off contact)
+      real(wp), intent(inout) :: sload(ilo:), sdepth(ilo:)
       type(strip_normal_t), intent(inout) :: sn
       integer :: lo, hi, i, j
       real(wp) :: gpy(6), k_roll, k_lat, dk_roll, dk_lat, dph_da, dph_db, x, h, c, q, qa, qb, gc(6), f6(6)
@@ -215,7 +217,7 @@ contains
                   ph(max(i1 - 2, ilo):min(i2 + 2, ihi)), gph(6, max(i1 - 2, ilo):min(i2 + 2, ihi))
       logical :: have(max(i1 - 2, ilo):min(i2 + 2, ihi))
       f6 = 0; sn%energy = 0
-      sload = 0
+      sload = 0; sdepth = 0
       if (i1 < ilo) return               ! no strip in contact (i1 = 0)
       ! the contact region's strips and two beyond on either side (evaluated by the search:
       ! the smooth wheel reaches ~h^2 / (8 R), 0.3 um, further than the cones, and an edge
@@ -226,7 +228,8 @@ contains
         if (.not. (delta(i) > -coarse_gap)) cycle      ! (interpolated strips: no deepest point)
         have(i) = .true.
         j = jseg(i)
-        call smooth_strip_depth(pw(:, i), delta(i), j, wheel%y, wheel%r, wheel%slope, dep(i), gg(1:3, i))
+        call smooth_strip_depth(pw(:, i), delta(i), j, wheel%y, wheel%r, wheel%slope, wheel%r_spline, dep(i), gg(1:3, i))
+        sdepth(i) = max(dep(i), 0.0_wp)
         gg(4:6, i) = [pw(2, i) * gg(3, i) - pw(3, i) * gg(2, i), pw(3, i) * gg(1, i) - pw(1, i) * gg(3, i), &
                       pw(1, i) * gg(2, i) - pw(2, i) * gg(1, i)]
         call wheel_point_curvatures(pw(2, i), j, wheel%y, wheel%k_roll, wheel%kappa, k_roll, k_lat, dk_roll, dk_lat)
@@ -527,8 +530,8 @@ contains
       integer, intent(in) :: a, b, kc, r1, r2
       real(wp), intent(in) :: pen
       real(wp), intent(in) :: xl, xh          !< the stretch's bounds (distributed force)
-      real(wp) :: x, w, wl, slope, rr, nrm, te, tx, thr, wsum, qsum, tm1, tm2, krsum, kwsum, wq, wcurv
-      integer :: kk, jw, kc2
+      real(wp) :: x, w, slope, rr, ky, te, tx, thr, wsum, qsum, krsum, kwsum, wq, wcurv, lsum, lsum1
+      integer :: kk, jw
       ! Contact point: centroid of the strips inside the virtual-penetration region of
       ! Kik & Piotrowski (VSD 46, 2008), delta_i > (1 - eps) delta_max with their eps = 0.55,
       ! weighted by delta_i - (1 - eps) delta_max. For a Hertzian (parabolic) gap this is
@@ -549,16 +552,35 @@ contains
         ! region they took in the near-conformal flange root next to a flange face, and the
         ! ellipse grew to 16 x 1.1 mm; the leading wheelset of the R 80 m scene
         ! (bench/extremes) then flipped between root and face (Y 4-98 kN at 14 Hz).
+        ! the curvature means' threshold: (1 - eps) times a smooth stand-in for the peak depth,
+        ! (2q + 1) / (2q) times the Lehmer mean of the smooth depths (the peak of every parabolic
+        ! gap: rd_strip_potential effective_penetration); the refined peak of the cones' depths
+        ! kinked where the deepest strip changed, and the means with it
+        lsum = 0; lsum1 = 0
         do kk = a, b
-          if (delta(kk) > 0) then
-            wq = frac(kk, xl, xh) * rail%width(kk) * delta(kk)**2 * sqrt(delta(kk))
+          if (sdepth(kk) > 0) then
+            lsum = lsum + frac(kk, xl, xh) * sdepth(kk)**lehmer_order
+            lsum1 = lsum1 + frac(kk, xl, xh) * sdepth(kk)**(lehmer_order - 1)
+          end if
+        end do
+        thr = 0
+        if (lsum1 > 0) thr = (1 - virtual_eps) * (2 * lehmer_order + 1) / (2.0_wp * lehmer_order) * lsum / lsum1
+        do kk = a, b
+          if (sdepth(kk) > 0) then
+            ! the strips' depths into the smooth wheel: those into the cones kinked the point
+            ! wherever a strip's deepest point crossed a profile point
+            wq = frac(kk, xl, xh) * rail%width(kk) * sdepth(kk)**2 * sqrt(sdepth(kk))
             wsum = wsum + wq
             qsum = qsum + wq * (kk - kc)
           end if
-          if (delta(kk) > thr) then
-            wcurv = wcurv + (delta(kk) - thr)
-            krsum = krsum + (delta(kk) - thr) * rail%kappa(kk)
-            kwsum = kwsum + (delta(kk) - thr) * wheel_kappa_at(kk)
+          if (sdepth(kk) > thr) then
+            ! squared weights: a strip crossing the threshold enters the means with zero
+            ! slope (with delta - thr the curvatures, the Hertz ellipse and the creep forces
+            ! kinked there, every few hundredths of a millimetre of shift on a wide tread patch)
+            wq = frac(kk, xl, xh) * (sdepth(kk) - thr)**2
+            wcurv = wcurv + wq
+            krsum = krsum + wq * rail%kappa(kk)
+            kwsum = kwsum + wq * wheel_kappa_smooth(kk)
           end if
         end do
       else
@@ -574,31 +596,11 @@ contains
       end if
       x = 0
       if (wsum > 0) x = qsum / wsum
-      kk = kc + floor(x)
-      w = x - floor(x)
-      if (kk + 1 > ihi) then
-        kk = ihi - 1; w = 1
+      if (use_distributed) then
+        call blend_point(kc, x, p)
+      else
+        call interpolate_point(kc, x, p)
       end if
-      kc2 = kk
-      kk = kc2 + 1
-      wl = w
-      ! Along the strip: the middle of the interpenetration chord (entry and exit of the
-      ! rail line through the wheel, eqs. 4.68-4.71), not the deepest point of the line.
-      ! For a Hertzian gap they coincide (the ellipse is symmetric about its centre); on a
-      ! yawed flange root the depth along the line is flat with several maxima, and the
-      ! deepest one jumps between them while the chord moves continuously.
-      call strip_ends(kc2, te, tx)
-      tm1 = 0.5_wp * (te + tx)
-      call strip_ends(kk, te, tx)
-      tm2 = 0.5_wp * (te + tx)
-      p%point_rail = [lerp(tm1, tm2, wl), lerp(rail%y(kc2), rail%y(kk), wl), lerp(rail%z(kc2), rail%z(kk), wl)]
-      p%point_wheel = lerp3(pw(:, kc2) + (tm1 - tline(kc2)) * d, pw(:, kk) + (tm2 - tline(kk)) * d, w)
-      p%u_rail = lerp(rail%u(kc2), rail%u(kk), wl)
-      p%normal = [0.0_wp, lerp(rail%ny(kc2), rail%ny(kk), wl), lerp(rail%nz(kc2), rail%nz(kk), wl)]
-      nrm = norm2(p%normal)
-      p%normal = p%normal / nrm
-      p%contact_angle = atan2(p%normal(2), p%normal(3))
-      p%curv_rail_lat = lerp(rail%kappa(kc2), rail%kappa(kk), wl)
       ! Lateral curvatures for Hertz: the mean over the virtual-penetration region with the
       ! centroid's weights (exact for a Hertzian gap, whose curvatures are constant over the
       ! patch). The curvatures at the point alone vary over tenths of a millimetre of wheelset
@@ -615,6 +617,10 @@ contains
       p%s_wheel = wheel%s(jw) + x * (wheel%s(jw + 1) - wheel%s(jw))
       rr = wheel%r(jw) + x * (wheel%r(jw + 1) - wheel%r(jw))
       slope = wheel%slope(jw) + x * (wheel%slope(jw + 1) - wheel%slope(jw))
+      ! the distributed force's patches: the smooth wheel's radius and slope (that of its
+      ! strip depths, C1 along the profile; linear between the points kinked the rolling
+      ! radius, and with it the longitudinal creepage, at every profile point)
+      if (use_distributed) call smooth_wheel_radius(p%point_wheel(2), jw, wheel%y, wheel%r, wheel%r_spline, rr, slope, ky)
       p%rolling_radius = rr
       p%curv_wheel_lat = wheel%kappa(jw) + x * (wheel%kappa(jw + 1) - wheel%kappa(jw))
       if (wcurv > 0) p%curv_wheel_lat = kwsum / wcurv    ! (see curv_rail_lat)
@@ -647,6 +653,79 @@ contains
       call strip_ends(kc, te, tx)
       p%strip_length = tx - te
     end subroutine fill_patch
+
+    !> The centroid force's patch point at the continuous strip position kc + x (fill_patch):
+    !> every strip quantity interpolated linearly between the two neighbouring strips.
+    pure subroutine interpolate_point(kc, x, p)
+      integer, intent(in) :: kc               !< the stretch's peak strip
+      real(wp), intent(in) :: x               !< the point's strip offset from kc
+      type(patch_geometry_t), intent(inout) :: p
+      real(wp) :: w, te, tx, tm1, tm2
+      integer :: kk, kc2
+      kk = kc + floor(x)
+      w = x - floor(x)
+      if (kk + 1 > ihi) then
+        kk = ihi - 1; w = 1
+      end if
+      kc2 = kk
+      kk = kc2 + 1
+      ! Along the strip: the middle of the interpenetration chord (entry and exit of the
+      ! rail line through the wheel, eqs. 4.68-4.71), not the deepest point of the line.
+      ! For a Hertzian gap they coincide (the ellipse is symmetric about its centre); on a
+      ! yawed flange root the depth along the line is flat with several maxima, and the
+      ! deepest one jumps between them while the chord moves continuously.
+      call strip_ends(kc2, te, tx)
+      tm1 = 0.5_wp * (te + tx)
+      call strip_ends(kk, te, tx)
+      tm2 = 0.5_wp * (te + tx)
+      p%point_rail = [lerp(tm1, tm2, w), lerp(rail%y(kc2), rail%y(kk), w), lerp(rail%z(kc2), rail%z(kk), w)]
+      p%point_wheel = lerp3(pw(:, kc2) + (tm1 - tline(kc2)) * d, pw(:, kk) + (tm2 - tline(kk)) * d, w)
+      p%u_rail = lerp(rail%u(kc2), rail%u(kk), w)
+      p%normal = [0.0_wp, lerp(rail%ny(kc2), rail%ny(kk), w), lerp(rail%nz(kc2), rail%nz(kk), w)]
+      p%normal = p%normal / norm2(p%normal)
+      p%contact_angle = atan2(p%normal(2), p%normal(3))
+      p%curv_rail_lat = lerp(rail%kappa(kc2), rail%kappa(kk), w)
+    end subroutine interpolate_point
+
+    !> The distributed force's patch point at the continuous strip position kc + x (CONTACT's
+    !> reference point, fill_patch): every strip quantity blended over the three strips
+    !> around it with the quadratic B-spline weights (1/2 - t)^2 / 2, 3/4 - t^2,
+    !> (1/2 + t)^2 / 2, t = x - nint(x), which are C1 in x and reproduce a quantity linear
+    !> in the strip index. Linear interpolation between the two neighbouring strips kinked
+    !> the point, its normal and with them the creep forces every time the position crossed a strip
+    !> (every ~0.19 mm of wheelset shift at 0.2 mm strips: bench/contact_smoothness).
+    pure subroutine blend_point(kc, x, p)
+      integer, intent(in) :: kc               !< the stretch's peak strip
+      real(wp), intent(in) :: x               !< the point's strip offset from kc
+      type(patch_geometry_t), intent(inout) :: p
+      real(wp) :: t, bw(3), te, tx, tm
+      integer :: i0, k, i
+      i0 = min(max(kc + nint(x), ilo + 1), ihi - 1)
+      t = min(max(x - (i0 - kc), -0.5_wp), 0.5_wp)
+      bw = [0.5_wp * (0.5_wp - t)**2, 0.75_wp - t * t, 0.5_wp * (0.5_wp + t)**2]
+      p%point_rail = 0; p%point_wheel = 0; p%u_rail = 0; p%normal = 0; p%curv_rail_lat = 0
+      do k = 1, 3
+        i = i0 - 2 + k
+        call strip_ends(i, te, tx)
+        tm = 0.5_wp * (te + tx)
+        p%point_rail = p%point_rail + bw(k) * [tm, rail%y(i), rail%z(i)]
+        p%point_wheel = p%point_wheel + bw(k) * (pw(:, i) + (tm - tline(i)) * d)
+        p%u_rail = p%u_rail + bw(k) * rail%u(i)
+        p%normal = p%normal + bw(k) * [0.0_wp, rail%ny(i), rail%nz(i)]
+        p%curv_rail_lat = p%curv_rail_lat + bw(k) * rail%kappa(i)
+      end do
+      p%normal = p%normal / norm2(p%normal)
+      p%contact_angle = atan2(p%normal(2), p%normal(3))
+    end subroutine blend_point
+
+    !> Wheel profile curvature at the deepest point of rail line i, C1 along the profile
+    !> (rd_strip_potential wheel_point_curvatures: the distributed force's; linear between the
+    !> points it kinked the patches' Hertz curvature means at every profile point).
+    pure real(wp) function wheel_kappa_smooth(i) result(k)
+      integer, intent(in) :: i
+      real(wp) :: k_roll, dk_roll, dk_lat
+      call wheel_point_curvatures(pw(2, i), jseg(i), wheel%y, wheel%k_roll, wheel%kappa, k_roll, k, dk_roll, dk_lat)
+    end function wheel_kappa_smooth
 
     !> Wheel profile curvature at the deepest point of rail line i (on its cone jseg(i)).
     pure real(wp) function wheel_kappa_at(i) result(k)

@@ -21,7 +21,7 @@ module rd_strip_potential
   !> larger follows the deepest bump more closely, with steeper changes between bumps
   integer, parameter :: lehmer_order = 8
   public :: effective_penetration, strip_force_direction, region_mean, wheel_point_curvatures, deepest_point_py_gradient
-  public :: smooth_strip_depth
+  public :: smooth_strip_depth, smooth_wheel_radius, lehmer_order
 
 contains
 
@@ -269,33 +269,28 @@ contains
   !> jumps, wherever its deepest point crosses a profile point: summed over the strips of a
   !> patch the distributed force jumped by 20-40 N every few micrometres of lateral shift on
   !> a flange root (one strip crossing a point each time), and BDF's steps collapsed in a
-  !> quasi-static curve (the TGV profile scene). Here the radius is the cubic Hermite
-  !> r_h(y) through the points with the profile slopes there (C1, curvature within each
-  !> segment), and at the deepest point p found on the cones
+  !> quasi-static curve (the TGV profile scene). Here the radius is the natural cubic spline
+  !> r_h(y) through the points (C2: smooth_wheel_radius), and at the deepest point p found on
+  !> the cones
   !>    d_h = d + r_h(p_y) - r_lin(p_y),   delta = d_h / sqrt(1 + k^2),   k = r_h'(p_y),
   !>    g = (-e_rho + k e_y) / sqrt(1 + k^2) - d_h k k_y / (1 + k^2)^(3/2) e_y,  k_y = r_h''(p_y)
   !> (d the radial depth into the cones, r_lin their radius at p_y). The deepest point stays
   !> the cones' (its shift to the smooth surface's changes the depth to second order; on a
   !> yawed line the gradient misses (k - s_j) d_y dt, ~1e-4 of it).
-  pure subroutine smooth_strip_depth(p, depth_cones, j, y, r, slope, depth, g)
+  pure subroutine smooth_strip_depth(p, depth_cones, j, y, r, slope, m, depth, g)
     real(wp), intent(in) :: p(3)            !< deepest point on the cones, intermediate frame [m]
     real(wp), intent(in) :: depth_cones     !< the strip search's depth d / sqrt(1 + k_lin^2) [m]
     integer, intent(in) :: j                !< the cone (segment j, j + 1)
     real(wp), intent(in) :: y(:), r(:), slope(:)  !< profile points: lateral position, radius, dr/dy
+    real(wp), intent(in) :: m(:)            !< the wheel spline's d2r/dy2 at the points
     real(wp), intent(out) :: depth          !< normal depth into the smooth wheel [m]
     real(wp), intent(out) :: g(3)           !< -d depth / d (wheel displacement), intermediate frame
-    real(wp) :: h, x, k_lin, d, r_lin, r_h, k, ky, root, rho, m0, m1
-    h = y(j + 1) - y(j)
-    x = min(max((p(2) - y(j)) / h, 0.0_wp), 1.0_wp)
+    real(wp) :: x, k_lin, d, r_lin, r_h, k, ky, root, rho
+    x = min(max((p(2) - y(j)) / (y(j + 1) - y(j)), 0.0_wp), 1.0_wp)
     k_lin = slope(j) + x * (slope(j + 1) - slope(j))
     d = depth_cones * sqrt(1 + k_lin**2)
     r_lin = r(j) + x * (r(j + 1) - r(j))
-    m0 = slope(j) * h; m1 = slope(j + 1) * h
-    r_h = (2 * x**3 - 3 * x**2 + 1) * r(j) + (x**3 - 2 * x**2 + x) * m0 + (-2 * x**3 + 3 * x**2) * r(j + 1) &
-          + (x**3 - x**2) * m1
-    k = ((6 * x**2 - 6 * x) * r(j) + (3 * x**2 - 4 * x + 1) * m0 + (-6 * x**2 + 6 * x) * r(j + 1) &
-         + (3 * x**2 - 2 * x) * m1) / h
-    ky = ((12 * x - 6) * r(j) + (6 * x - 4) * m0 + (-12 * x + 6) * r(j + 1) + (6 * x - 2) * m1) / h**2
+    call smooth_wheel_radius(p(2), j, y, r, m, r_h, k, ky)
     d = d + r_h - r_lin
     root = sqrt(1 + k**2)
     depth = d / root
@@ -303,5 +298,26 @@ contains
     g = [-p(1) / rho, k, -p(3) / rho] / root
     g(2) = g(2) - d * k * ky / root**3
   end subroutine smooth_strip_depth
+
+  !> The smooth wheel of smooth_strip_depth at lateral position yq on segment j (clamped to
+  !> it): the natural cubic spline r_h through the profile points (second derivatives m,
+  !> rd_contact_surfaces), its slope r_h' and second derivative r_h'', all continuous along
+  !> the profile. (A cubic Hermite with the points' slopes is C1 only: its r_h'' jumped at
+  !> every profile point, and with it the depth gradient's curvature term d k k_y, so the
+  !> distributed force's lateral component jumped by 0.1-0.3 % on the flange wherever a
+  !> strip crossed a point: bench/contact_smoothness.)
+  pure subroutine smooth_wheel_radius(yq, j, y, r, m, r_h, k, ky)
+    real(wp), intent(in) :: yq              !< lateral position on the wheel [m]
+    integer, intent(in) :: j                !< the segment (points j, j + 1)
+    real(wp), intent(in) :: y(:), r(:), m(:)  !< profile points: lateral position, radius, spline d2r/dy2
+    real(wp), intent(out) :: r_h, k, ky     !< radius [m], dr/dy, d2r/dy2 [1/m]
+    real(wp) :: h, t, u
+    h = y(j + 1) - y(j)
+    t = min(max((yq - y(j)) / h, 0.0_wp), 1.0_wp)
+    u = 1 - t
+    r_h = u * r(j) + t * r(j + 1) + h * h / 6 * ((u**3 - u) * m(j) + (t**3 - t) * m(j + 1))
+    k = (r(j + 1) - r(j)) / h + h / 6 * (-(3 * u * u - 1) * m(j) + (3 * t * t - 1) * m(j + 1))
+    ky = u * m(j) + t * m(j + 1)
+  end subroutine smooth_wheel_radius
 
 end module rd_strip_potential

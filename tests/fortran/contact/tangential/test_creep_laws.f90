@@ -8,7 +8,7 @@ program test_creep_laws
   use rd_creep_law
   use rd_creep_factory, only: build_creep_law
   use rd_kalker_coefficients, only: kalker_coefficients
-  use rd_test_support, only: check_close, fail, test_summary
+  use rd_test_support, only: check_close, check_within, fail, test_summary
   implicit none
   type(creep_patch_t) :: patch
   type(creep_law_options_t) :: options
@@ -49,6 +49,10 @@ program test_creep_laws
   call kalker_coefficients(1.0_wp / 0.3_wp, 0.5_wp, c11, c22, c23, c33)   ! b/a = 0.3 row
   call check_close(c11, 7.34_wp, 1.0e-12_wp, 'C11(b/a=.3,.5)')
   call check_close(c33, 0.446_wp, 1.0e-12_wp, 'C33(b/a=.3,.5)')
+  ! C1 in a/b: at every interior row the slope just below equals the slope just above (with
+  ! linear interpolation they differed by up to the full change of the table's slope: the
+  ! creep forces kinked at every row of a sweep of the ellipse's shape)
+  call check_within('C11..C33: slope jump at the rows / slope change', worst_corner_slope_jump(), 1.0e-3_wp)
 
   ! --- laws from the factory
   call build_creep_law('linear', options, linear, error); call must_ok()
@@ -223,6 +227,28 @@ program test_creep_laws
   call test_summary('test_creep_laws')
 
 contains
+
+  !> The largest |slope above - slope below| at an interior row of the table (a/b = 0.2 ... 0.9,
+  !> 1, 1/0.9 ... 1/0.2; one-sided differences 1e-7 in a/b), over C11, C22, C23, C33 at
+  !> nu = 0.28, relative to the largest change of the linear slopes between neighbouring rows.
+  real(wp) function worst_corner_slope_jump() result(worst)
+    real(wp), parameter :: h = 1.0e-7_wp
+    real(wp) :: g, cm(4), c0(4), cp(4), jump(4), scale(4), prev(4), slope(4)
+    integer :: k
+    worst = 0; scale = 0; prev = 0
+    do k = 2, 18
+      g = merge(0.1_wp * k, 1 / (1 - 0.1_wp * (k - 10)), k <= 10)
+      call kalker_coefficients(g - h, 0.28_wp, cm(1), cm(2), cm(3), cm(4))
+      call kalker_coefficients(g, 0.28_wp, c0(1), c0(2), c0(3), c0(4))
+      call kalker_coefficients(g + h, 0.28_wp, cp(1), cp(2), cp(3), cp(4))
+      jump = abs((cp - c0) / h - (c0 - cm) / h)
+      slope = (cp - cm) / (2 * h)
+      if (k > 2) scale = max(scale, abs(slope - prev))
+      prev = slope
+      worst = max(worst, maxval(jump))
+    end do
+    worst = worst / maxval(scale)
+  end function worst_corner_slope_jump
 
   subroutine odd_continuous(l, label)
     class(creep_law_t), intent(in) :: l

@@ -1,0 +1,112 @@
+!> The distributed strip normal force and its patches along fine pose sweeps (issue "smooth
+!> wheel-rail forces", item 2; docs/theory_flange_chatter.md section 14). The check is on the
+!> second differences d2 against the largest first difference d1 of the same quantity over
+!> 1001 samples: a jump shows as d2 ~ d1, a kink as d2 ~ (slope change) x step, a C1 path as
+!> d2 ~ d1 x step / (the length over which the slope changes), halving with the step.
+!>
+!> - Flange (yaw 0, 6.338-6.348 mm, the line between two poses of bench/contact_smoothness's
+!>   wheel-load path, their height and roll): the lateral force. With the cubic Hermite wheel
+!>   (C1: its r'' jumped at every profile point) the depth gradient's curvature term made it
+!>   jump by 60-260 N every few micrometres: d2 / d1 = 1.03 (main db5be3d). With the natural
+!>   spline wheel (C2) 0.007: kinks of 0.05 N at 10 nm steps are left (d2 / d1 does not halve
+!>   with the step: the spline's third derivative jumps at the points), so this sweep shows the
+!>   jumps gone, not C1.
+!> - Tread (yaw 0, 2.0-3.0 mm, 30 um below the line between rigid contact at the ends): the
+!>   patch's contact point, normal and Hertz curvature means, which the creep law sees.
+!>   Interpolated linearly between neighbouring strips, point and normal kinked every ~0.19 mm
+!>   (d2 / d1 0.019), and the curvature means (weights delta - thr on the cones' depths, the
+!>   wheel's curvature linear between the points, the threshold from the cones' refined peak)
+!>   kinked wherever a strip crossed the threshold or a point (0.26). Now 3.4e-4, 3.4e-4 and
+!>   2.4e-3, halving with the step (2001 samples: 1.7e-4, 1.7e-4, 1.2e-3), which is checked.
+program test_distributed_smoothness
+  use rd_kinds, only: wp
+  use rd_error, only: error_t
+  use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, build_contact_geometry
+  use rd_contact_geometry, only: contact_geometry_t, wheel_contact, SIDE_LEFT
+  use rd_contact_patch, only: wheel_contact_t
+  use rd_rigid_contact, only: rigid_contact
+  use rd_test_support, only: check_within, test_summary
+  use rd_text, only: int_text
+  implicit none
+  integer, parameter :: n = 1001
+  type(wheelset_contact_spec_t) :: spec
+  type(contact_geometry_t) :: geo
+  type(error_t), allocatable :: error
+  type(wheel_contact_t) :: r
+  !> two poses (y, z, roll) of the wheel-load path, 2026-11-29 (the sweep's line between them)
+  real(wp), parameter :: flange_a(3) = [6.338e-3_wp, 4.602722731856760e-01_wp, 7.935877691041501e-04_wp]
+  real(wp), parameter :: flange_b(3) = [6.348e-3_wp, 4.602830372683690e-01_wp, 8.078696511862200e-04_wp]
+  character(len=*), parameter :: tread_name(3) = [character(len=24) :: 'contact point y', 'normal y component', &
+                                                    'lateral Hertz curvature']
+  real(wp) :: q(3), t, yf(n), z0, phi0, z1, phi1, ratio1(3), ratio2(3)
+  integer :: i, k
+
+  spec = wheelset_contact_spec_t()
+  spec%wheel_profile = 's1002'
+  spec%rail_profile = '60e1'
+  spec%strip_normal_force = 'distributed'
+  call build_contact_geometry(spec, geo, error)
+  if (allocated(error)) error stop error%message
+
+  do i = 1, n
+    t = real(i - 1, wp) / (n - 1)
+    q = flange_a + t * (flange_b - flange_a)
+    call wheel_contact(geo, SIDE_LEFT, q(1), q(2), q(3), 0.0_wp, r)
+    yf(i) = r%distributed%force(2)
+  end do
+  call check_within('flange path: lateral force: max |d2| / max |d1|', d2_over_d1('flange path: lateral force', yf), &
+                    0.05_wp)
+
+  ! the line between rigid contact lowered by 30 um at both ends; at n and 2n - 1 samples
+  call rigid_contact(geo, 2.0e-3_wp, 0.0_wp, z0, phi0, error)
+  if (allocated(error)) error stop error%message
+  call rigid_contact(geo, 3.0e-3_wp, 0.0_wp, z1, phi1, error)
+  if (allocated(error)) error stop error%message
+  call tread_ratios(n, ratio1)
+  call tread_ratios(2 * n - 1, ratio2)
+  do k = 1, 3
+    call check_within('tread: ' // trim(tread_name(k)) // ': max |d2| / max |d1|', ratio1(k), &
+                      merge(2.0e-3_wp, 1.0e-2_wp, k < 3))
+    ! C1: half the step, half the ratio (a kink keeps it)
+    call check_within('tread: ' // trim(tread_name(k)) // ': the ratio at half the step / at the step', &
+                      ratio2(k) / ratio1(k), 0.6_wp)
+  end do
+  call test_summary('test_distributed_smoothness')
+
+contains
+
+  !> max |d2| / max |d1| of the tread patch's point, normal and curvature means over m samples
+  subroutine tread_ratios(m, ratio)
+    integer, intent(in) :: m
+    real(wp), intent(out) :: ratio(3)
+    real(wp) :: v(m, 3), tt
+    type(wheel_contact_t) :: rt
+    integer :: i
+    do i = 1, m
+      tt = real(i - 1, wp) / (m - 1)
+      call wheel_contact(geo, SIDE_LEFT, 2.0e-3_wp + 1.0e-3_wp * tt, z0 + tt * (z1 - z0) - 3.0e-5_wp, &
+                         phi0 + tt * (phi1 - phi0), 0.0_wp, rt)
+      if (rt%n_patches /= 1) error stop 'test_distributed_smoothness: expected one tread patch'
+      v(i, :) = [rt%patch(1)%point_rail(2), rt%patch(1)%normal(2), rt%patch(1)%curv_wheel_lat + rt%patch(1)%curv_rail_lat]
+    end do
+    do i = 1, 3
+      ratio(i) = d2_over_d1('tread (' // trim(int_text(m)) // ' samples): ' // trim(tread_name(i)), v(:, i))
+    end do
+  end subroutine tread_ratios
+
+  !> max |d2| / max |d1| of the samples v (printed)
+  real(wp) function d2_over_d1(what, v) result(ratio)
+    character(len=*), intent(in) :: what
+    real(wp), intent(in) :: v(:)
+    real(wp) :: d1, d2
+    integer :: k
+    d1 = maxval(abs(v(2:) - v(:size(v) - 1)))
+    d2 = 0
+    do k = 2, size(v) - 1
+      d2 = max(d2, abs(v(k + 1) - 2 * v(k) + v(k - 1)))
+    end do
+    write (*, '(a,es11.3,a,es11.3)') '      ' // what // ': max |d2| ', d2, ', max |d1| ', d1
+    ratio = d2 / d1
+  end function d2_over_d1
+
+end program test_distributed_smoothness
