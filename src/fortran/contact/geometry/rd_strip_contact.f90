@@ -18,7 +18,7 @@ module rd_strip_contact
   use rd_line_cone, only: line_cone_roots, line_cone_max_depth_slope
   use rd_hertz_strip, only: strip_stiffness, interval_energy
   use rd_strip_potential, only: effective_penetration, strip_force_direction, region_mean, wheel_point_curvatures, &
-    deepest_point_py_gradient, smooth_strip_depth, smooth_wheel_radius, lehmer_order
+    deepest_point_py_gradient, smooth_line_depth, smooth_wheel_radius, lehmer_order
   implicit none
   private
   public :: strip_wheel_contact
@@ -52,6 +52,10 @@ contains
     !> distributed force: each strip's normal load per unit E*, w_i phi_i s'(delta_i), and its
     !> depth into the smooth wheel (0 off contact; the patch points' weights)
     real(wp), allocatable :: sload(:), sdepth(:)
+    !> distributed force: each strip's deepest point on the smooth wheel (intermediate frame)
+    !> and its segment: the patches' points and Hertz curvature means are taken there
+    real(wp), allocatable :: sdeep(:, :)
+    integer, allocatable :: sdeep_j(:)
     integer :: jprev
     real(wp) :: delta(rail%n), tline(rail%n), pw(3, rail%n)
     integer :: jseg(rail%n)
@@ -167,8 +171,8 @@ contains
     ! (docs/theory_contact_geometry.md, "Bumps within one run").
     ! the distributed normal force first: the patches take their loads from its strips
     if (use_distributed) then
-      allocate (sload(ilo:ihi), sdepth(ilo:ihi))
-      call distributed_force(ifirst, ilast, sload, sdepth, res%distributed)
+      allocate (sload(ilo:ihi), sdepth(ilo:ihi), sdeep(3, ilo:ihi), sdeep_j(ilo:ihi))
+      call distributed_force(ifirst, ilast, sload, sdepth, sdeep, sdeep_j, res%distributed)
       call attach_edge_loads(sload)
     end if
     i = ifirst
@@ -198,45 +202,45 @@ contains
     !> mean of the two strips' c_i = E* phi(A_i, B_i) (the curvatures at a strip's deepest
     !> point: the wheel's rolling and lateral curvature there, the rail's lateral one at the
     !> strip), h the rail arc length between them, delta_i a strip's depth into the smooth
-    !> wheel (rd_strip_potential smooth_strip_depth). Minus its gradient, per unit E*:
-    !> sum (c (q_a G_i + q_b G_(i+1)) - q grad c), G_i = (g_i, p_i x g_i) minus the strip
+    !> wheel at its line's deepest point on that wheel (rd_strip_potential smooth_line_depth). Minus its gradient, per unit E*:
+    !> sum (c (q_a G_i + q_b G_(i+1)) - q grad c), G_i minus the strip
     !> depth's gradient (rd_strip_potential) and grad c through the deepest points' lateral
     !> positions (their shift included). Force in the track frame, moment about the wheelset
     !> centre in the intermediate frame.
-    pure subroutine distributed_force(i1, i2, sload, sdepth, sn)
+    pure subroutine distributed_force(i1, i2, sload, sdepth, sdeep, sdeep_j, sn)
       integer, intent(in) :: i1, i2
       !> each strip's load per unit E*, the derivative of U by its depth, and its depth into
       !> the smooth wheel (both 0 off contact)
       real(wp), intent(inout) :: sload(ilo:), sdepth(ilo:)
+      !> each strip's deepest point on the smooth wheel (the cones' where not evaluated), segment
+      real(wp), intent(inout) :: sdeep(:, ilo:)
+      integer, intent(inout) :: sdeep_j(ilo:)
       type(strip_normal_t), intent(inout) :: sn
       integer :: lo, hi, i, j
-      real(wp) :: gpy(6), k_roll, k_lat, dk_roll, dk_lat, dph_da, dph_db, x, h, c, q, qa, qb, gc(6), f6(6)
+      real(wp) :: gpy(6), k_roll, k_lat, dk_roll, dk_lat, dph_da, dph_db, h, c, qi, qa, qb, gc(6), f6(6), q(3)
       ! per strip: smooth depth, G = -grad depth (force, moment), phi and its gradient
       ! (over the contact region and its margin only, not the whole window)
       real(wp) :: dep(max(i1 - 2, ilo):min(i2 + 2, ihi)), gg(6, max(i1 - 2, ilo):min(i2 + 2, ihi)), &
                   ph(max(i1 - 2, ilo):min(i2 + 2, ihi)), gph(6, max(i1 - 2, ilo):min(i2 + 2, ihi))
       logical :: have(max(i1 - 2, ilo):min(i2 + 2, ihi))
       f6 = 0; sn%energy = 0
-      sload = 0; sdepth = 0
+      sload = 0; sdepth = 0; sdeep = 0; sdeep_j = 1
       if (i1 < ilo) return               ! no strip in contact (i1 = 0)
       ! the contact region's strips and two beyond on either side (evaluated by the search:
       ! the smooth wheel reaches ~h^2 / (8 R), 0.3 um, further than the cones, and an edge
       ! interval needs its outer strip)
       lo = max(i1 - 2, ilo); hi = min(i2 + 2, ihi)
       have = .false.
+      sdeep(:, lo:hi) = pw(:, lo:hi); sdeep_j(lo:hi) = jseg(lo:hi)
       do i = lo, hi
         if (.not. (delta(i) > -coarse_gap)) cycle      ! (interpolated strips: no deepest point)
         have(i) = .true.
-        j = jseg(i)
-        call smooth_strip_depth(pw(:, i), delta(i), j, wheel%y, wheel%r, wheel%slope, wheel%r_spline, dep(i), gg(1:3, i))
+        call smooth_line_depth(pw(:, i), d, jseg(i), wheel%y, wheel%r, wheel%r_spline, q, j, dep(i), gg(:, i), gpy)
         sdepth(i) = max(dep(i), 0.0_wp)
-        gg(4:6, i) = [pw(2, i) * gg(3, i) - pw(3, i) * gg(2, i), pw(3, i) * gg(1, i) - pw(1, i) * gg(3, i), &
-                      pw(1, i) * gg(2, i) - pw(2, i) * gg(1, i)]
-        call wheel_point_curvatures(pw(2, i), j, wheel%y, wheel%k_roll, wheel%kappa, k_roll, k_lat, dk_roll, dk_lat)
+        sdeep(:, i) = q; sdeep_j(i) = j
+        call wheel_point_curvatures(q(2), j, wheel%y, wheel%k_roll, wheel%kappa, k_roll, k_lat, dk_roll, dk_lat)
         ! half sums of the two bodies' curvatures (the straight rail has no rolling one)
         call strip_stiffness(0.5_wp * k_roll, 0.5_wp * (k_lat + rail%kappa(i)), ph(i), dph_da, dph_db)
-        x = (pw(2, i) - wheel%y(j)) / (wheel%y(j + 1) - wheel%y(j))
-        gpy = deepest_point_py_gradient(pw(:, i), d, wheel%cone_slope(j), x > 1.0e-9_wp .and. x < 1 - 1.0e-9_wp)
         gph(:, i) = 0.5_wp * (dph_da * dk_roll + dph_db * dk_lat) * gpy
       end do
       ! the intervals between neighbouring strips: U = c h int_0^1 ((1-t) a + t b)_+^2 dt with
@@ -246,13 +250,13 @@ contains
         if (.not. (have(i) .and. have(i + 1))) cycle
         if (.not. (dep(i) > 0 .or. dep(i + 1) > 0)) cycle
         h = rail%interval(i)
-        call interval_energy(dep(i), dep(i + 1), h, q, qa, qb)
+        call interval_energy(dep(i), dep(i + 1), h, qi, qa, qb)
         c = 0.5_wp * (ph(i) + ph(i + 1))
         gc = 0.5_wp * (gph(:, i) + gph(:, i + 1))
-        sn%energy = sn%energy + c * q
+        sn%energy = sn%energy + c * qi
         sload(i) = sload(i) + c * qa
         sload(i + 1) = sload(i + 1) + c * qb
-        f6 = f6 + c * (qa * gg(:, i) + qb * gg(:, i + 1)) - q * gc
+        f6 = f6 + c * (qa * gg(:, i) + qb * gg(:, i + 1)) - qi * gc
       end do
       sn%force = matmul(f6(1:3), bt)      ! B f: intermediate -> track frame
       sn%moment = f6(4:6)
@@ -698,7 +702,7 @@ contains
       integer, intent(in) :: kc               !< the stretch's peak strip
       real(wp), intent(in) :: x               !< the point's strip offset from kc
       type(patch_geometry_t), intent(inout) :: p
-      real(wp) :: t, bw(3), te, tx, tm
+      real(wp) :: t, bw(3), tm
       integer :: i0, k, i
       i0 = min(max(kc + nint(x), ilo + 1), ihi - 1)
       t = min(max(x - (i0 - kc), -0.5_wp), 0.5_wp)
@@ -706,10 +710,12 @@ contains
       p%point_rail = 0; p%point_wheel = 0; p%u_rail = 0; p%normal = 0; p%curv_rail_lat = 0
       do k = 1, 3
         i = i0 - 2 + k
-        call strip_ends(i, te, tx)
-        tm = 0.5_wp * (te + tx)
+        ! along the line: the deepest point on the smooth wheel (unique and smooth in the pose;
+        ! the cones' chord middle moved in kinks wherever the chord's ends crossed profile
+        ! points, and with it the rolling radius at the point and the longitudinal creepage)
+        tm = tline(i) + dot_product(sdeep(:, i) - pw(:, i), d)
         p%point_rail = p%point_rail + bw(k) * [tm, rail%y(i), rail%z(i)]
-        p%point_wheel = p%point_wheel + bw(k) * (pw(:, i) + (tm - tline(i)) * d)
+        p%point_wheel = p%point_wheel + bw(k) * sdeep(:, i)
         p%u_rail = p%u_rail + bw(k) * rail%u(i)
         p%normal = p%normal + bw(k) * [0.0_wp, rail%ny(i), rail%nz(i)]
         p%curv_rail_lat = p%curv_rail_lat + bw(k) * rail%kappa(i)
@@ -718,13 +724,15 @@ contains
       p%contact_angle = atan2(p%normal(2), p%normal(3))
     end subroutine blend_point
 
-    !> Wheel profile curvature at the deepest point of rail line i, C1 along the profile
-    !> (rd_strip_potential wheel_point_curvatures: the distributed force's; linear between the
-    !> points it kinked the patches' Hertz curvature means at every profile point).
+    !> Wheel profile curvature at rail line i's deepest point on the smooth wheel, C1 along the
+    !> profile (rd_strip_potential wheel_point_curvatures: the distributed force's). Linear
+    !> between the points it kinked the patches' Hertz curvature means at every profile point,
+    !> and at the cones' deepest point, which a yawed line holds on a profile point for a while,
+    !> on the yawed flange every few hundredths of a millimetre.
     pure real(wp) function wheel_kappa_smooth(i) result(k)
       integer, intent(in) :: i
       real(wp) :: k_roll, dk_roll, dk_lat
-      call wheel_point_curvatures(pw(2, i), jseg(i), wheel%y, wheel%k_roll, wheel%kappa, k_roll, k, dk_roll, dk_lat)
+      call wheel_point_curvatures(sdeep(2, i), sdeep_j(i), wheel%y, wheel%k_roll, wheel%kappa, k_roll, k, dk_roll, dk_lat)
     end function wheel_kappa_smooth
 
     !> Wheel profile curvature at the deepest point of rail line i (on its cone jseg(i)).

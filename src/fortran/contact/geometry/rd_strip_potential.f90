@@ -21,7 +21,7 @@ module rd_strip_potential
   !> larger follows the deepest bump more closely, with steeper changes between bumps
   integer, parameter :: lehmer_order = 8
   public :: effective_penetration, strip_force_direction, region_mean, wheel_point_curvatures, deepest_point_py_gradient
-  public :: smooth_strip_depth, smooth_wheel_radius, lehmer_order
+  public :: smooth_line_depth, smooth_wheel_radius, lehmer_order
 
 contains
 
@@ -206,18 +206,23 @@ contains
   !> for a rotation. On a yawed wheel the shift is as large as the rigid part (it doubled
   !> the yaw derivative of the flange curvatures). `inside`: the stationary point lies
   !> inside the cone (else it sits on the cone's edge, a circle of the wheel: p_y fixed).
-  pure function deepest_point_py_gradient(p, d, s, inside) result(gpy)
+  pure function deepest_point_py_gradient(p, d, s, inside, r2) result(gpy)
     real(wp), intent(in) :: p(3), d(3), s
     logical, intent(in) :: inside
+    !> the wheel's d2r/dy2 at p (a smooth wheel; 0 on a cone): D_tt gains r2 d_y^2 and
+    !> grad_p D_t its y component r2 d_y
+    real(wp), intent(in), optional :: r2
     real(wp) :: gpy(6)
-    real(wp) :: rho, sxz, a2, dtt, gp(3), gd(3), dt(6)
+    real(wp) :: rho, sxz, a2, dtt, gp(3), gd(3), dt(6), ryy
     gpy = 0
     if (.not. inside) return
+    ryy = 0
+    if (present(r2)) ryy = r2
     rho = hypot(p(1), p(3))
     sxz = p(1) * d(1) + p(3) * d(3)
     a2 = d(1)**2 + d(3)**2
-    dtt = -(a2 * rho**2 - sxz**2) / rho**3
-    gp = -[d(1) / rho - sxz * p(1) / rho**3, 0.0_wp, d(3) / rho - sxz * p(3) / rho**3]
+    dtt = ryy * d(2)**2 - (a2 * rho**2 - sxz**2) / rho**3
+    gp = [-(d(1) / rho - sxz * p(1) / rho**3), ryy * d(2), -(d(3) / rho - sxz * p(3) / rho**3)]
     gd = [-p(1) / rho, s, -p(3) / rho]
     dt(1:3) = gp / dtt
     ! p x gp + d x gd and -p x e_y written out (a hot path of the distributed force; the
@@ -263,43 +268,89 @@ contains
     g(2) = g(2) - depth * k * ky / root**2
   end function strip_force_direction
 
-  !> A strip's normal depth into the SMOOTH wheel and minus its gradient (the force
-  !> direction), from its depth into the polygonal wheel of the strip search. The search's
-  !> wheel is a chain of cones, so a strip's depth kinks, and the direction's chord slope s_j
-  !> jumps, wherever its deepest point crosses a profile point: summed over the strips of a
-  !> patch the distributed force jumped by 20-40 N every few micrometres of lateral shift on
-  !> a flange root (one strip crossing a point each time), and BDF's steps collapsed in a
-  !> quasi-static curve (the TGV profile scene). Here the radius is the natural cubic spline
-  !> r_h(y) through the points (C2: smooth_wheel_radius), and at the deepest point p found on
-  !> the cones
-  !>    d_h = d + r_h(p_y) - r_lin(p_y),   delta = d_h / sqrt(1 + k^2),   k = r_h'(p_y),
-  !>    g = (-e_rho + k e_y) / sqrt(1 + k^2) - d_h k k_y / (1 + k^2)^(3/2) e_y,  k_y = r_h''(p_y)
-  !> (d the radial depth into the cones, r_lin their radius at p_y). The deepest point stays
-  !> the cones' (its shift to the smooth surface's changes the depth to second order; on a
-  !> yawed line the gradient misses (k - s_j) d_y dt, ~1e-4 of it).
-  pure subroutine smooth_strip_depth(p, depth_cones, j, y, r, slope, m, depth, g)
+  !> A strip's normal depth into the SMOOTH wheel, minus its gradient (the strip force's
+  !> direction and moment) and the gradient of its deepest point's lateral position. The
+  !> strip search's wheel is a chain of cones: a strip's depth kinks, and the direction's
+  !> chord slope jumps, wherever its deepest point crosses a profile point (summed over a
+  !> flange-root patch the distributed force jumped by 20-40 N every few micrometres, and BDF's
+  !> steps collapsed in the TGV profile scene's curve), and on a yawed line the cones' deepest
+  !> point sits on a profile point for a while, then leaves it (the force then jumped by ~26 N
+  !> every micrometre on the flange face of a yawed wheelset). Here the wheel is the natural
+  !> cubic spline r_h(y) through the profile points (C2: smooth_wheel_radius) and the deepest
+  !> point of the line p + s d is found on it by Newton's method from the cones' point p:
+  !>    D(s) = r_h(q_y) - rho(q),  q = p + s d,  D_s = r_h' d_y - s_xz / rho = 0,
+  !>    D_ss = r_h'' d_y^2 - (a^2 rho^2 - s_xz^2) / rho^3   (s_xz = q_x d_x + q_z d_z, a^2 = d_x^2 + d_z^2)
+  !> (stopping at the cones' point if D is not concave there). At q, with k = r_h'(q_y),
+  !> k_y = r_h''(q_y): delta = D / sqrt(1 + k^2) and, the wheel displaced by u and turned by
+  !> theta (q moves by -u - theta x q relative to it; by the envelope theorem D's own shift
+  !> along the line does not count),
+  !>    G = -grad delta = ((-e_rho + k e_y), q x (-e_rho + k e_y)) / sqrt(1 + k^2)
+  !>                      + D k k_y / (1 + k^2)^(3/2) grad q_y,
+  !> grad q_y from deepest_point_py_gradient (the point's shift along the line included).
+  pure subroutine smooth_line_depth(p, d, j, y, r, m, q, js, depth, g, gpy)
     real(wp), intent(in) :: p(3)            !< deepest point on the cones, intermediate frame [m]
-    real(wp), intent(in) :: depth_cones     !< the strip search's depth d / sqrt(1 + k_lin^2) [m]
-    integer, intent(in) :: j                !< the cone (segment j, j + 1)
-    real(wp), intent(in) :: y(:), r(:), slope(:)  !< profile points: lateral position, radius, dr/dy
-    real(wp), intent(in) :: m(:)            !< the wheel spline's d2r/dy2 at the points
+    real(wp), intent(in) :: d(3)            !< the line's direction, intermediate frame
+    integer, intent(in) :: j                !< the cone of p (segment j, j + 1)
+    real(wp), intent(in) :: y(:), r(:)      !< profile points: lateral position, radius [m]
+    real(wp), intent(in) :: m(:)            !< the wheel spline's d2r/dy2 at the points [1/m]
+    real(wp), intent(out) :: q(3)           !< the deepest point on the smooth wheel [m]
+    integer, intent(out) :: js              !< its segment
     real(wp), intent(out) :: depth          !< normal depth into the smooth wheel [m]
-    real(wp), intent(out) :: g(3)           !< -d depth / d (wheel displacement), intermediate frame
-    real(wp) :: x, k_lin, d, r_lin, r_h, k, ky, root, rho
-    x = min(max((p(2) - y(j)) / (y(j + 1) - y(j)), 0.0_wp), 1.0_wp)
-    k_lin = slope(j) + x * (slope(j + 1) - slope(j))
-    d = depth_cones * sqrt(1 + k_lin**2)
-    r_lin = r(j) + x * (r(j + 1) - r(j))
-    call smooth_wheel_radius(p(2), j, y, r, m, r_h, k, ky)
-    d = d + r_h - r_lin
+    real(wp), intent(out) :: g(6)           !< -d depth / d (translation, rotation), intermediate frame
+    real(wp), intent(out) :: gpy(6)         !< d q_y / d (translation, rotation)
+    !> Newton iterations on the line offset (to a step below 1e-11 m: the depth is then exact to
+    !> ~1e-22 m, D being stationary there)
+    integer, parameter :: max_iterations = 8
+    real(wp) :: s, ds, rh, k, ky, rho, sxz, a2, dd, root, h, t, u
+    integer :: it, n
+    n = size(y)
+    a2 = d(1)**2 + d(3)**2
+    s = 0
+    js = j
+    do it = 1, max_iterations
+      q = p + s * d
+      js = hunt(q(2), js)
+      ! the spline at q_y (smooth_wheel_radius written out: the hot path of the distributed
+      ! force, called per strip and iteration)
+      h = y(js + 1) - y(js)
+      t = min(max((q(2) - y(js)) / h, 0.0_wp), 1.0_wp)
+      u = 1 - t
+      k = (r(js + 1) - r(js)) / h + h / 6 * (-(3 * u * u - 1) * m(js) + (3 * t * t - 1) * m(js + 1))
+      ky = u * m(js) + t * m(js + 1)
+      rho = sqrt(q(1)**2 + q(3)**2)
+      sxz = q(1) * d(1) + q(3) * d(3)
+      dd = ky * d(2)**2 - (a2 * rho**2 - sxz**2) / rho**3
+      if (.not. (dd < 0)) exit            ! not a maximum here: keep the point
+      ds = -(k * d(2) - sxz / rho) / dd
+      ! converged: keep the point just evaluated (D is stationary there to ~1e-11 m)
+      if (abs(ds) < 1.0e-11_wp) exit
+      s = s + ds
+    end do
+    rh = u * r(js) + t * r(js + 1) + h * h / 6 * ((u**3 - u) * m(js) + (t**3 - t) * m(js + 1))
     root = sqrt(1 + k**2)
-    depth = d / root
-    rho = hypot(p(1), p(3))
-    g = [-p(1) / rho, k, -p(3) / rho] / root
-    g(2) = g(2) - d * k * ky / root**3
-  end subroutine smooth_strip_depth
+    depth = (rh - rho) / root
+    g(1:3) = [-q(1) / rho, k, -q(3) / rho] / root
+    g(4:6) = [q(2) * g(3) - q(3) * g(2), q(3) * g(1) - q(1) * g(3), q(1) * g(2) - q(2) * g(1)]
+    gpy = deepest_point_py_gradient(q, d, k, .true., ky)
+    g = g + (rh - rho) * k * ky / root**3 * gpy
+  contains
+    !> the segment holding yq, hunted from j0 (clamped to the profile)
+    pure integer function hunt(yq, j0) result(jj)
+      real(wp), intent(in) :: yq
+      integer, intent(in) :: j0
+      jj = j0
+      do while (jj < n - 1)
+        if (.not. (yq > y(jj + 1))) exit
+        jj = jj + 1
+      end do
+      do while (jj > 1)
+        if (.not. (yq < y(jj))) exit
+        jj = jj - 1
+      end do
+    end function hunt
+  end subroutine smooth_line_depth
 
-  !> The smooth wheel of smooth_strip_depth at lateral position yq on segment j (clamped to
+  !> The smooth wheel of smooth_line_depth at lateral position yq on segment j (clamped to
   !> it): the natural cubic spline r_h through the profile points (second derivatives m,
   !> rd_contact_surfaces), its slope r_h' and second derivative r_h'', all continuous along
   !> the profile. (A cubic Hermite with the points' slopes is C1 only: its r_h'' jumped at

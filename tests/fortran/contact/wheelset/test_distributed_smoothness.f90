@@ -11,6 +11,10 @@
 !>   spline wheel (C2) 0.007: kinks of 0.05 N at 10 nm steps are left (d2 / d1 does not halve
 !>   with the step: the spline's third derivative jumps at the points), so this sweep shows the
 !>   jumps gone, not C1.
+!> - Flange face at yaw 15 mrad (7.540-7.548 mm, the same path's poses): the lateral force.
+!>   With the deepest points on the cones (pinned at profile points on a yawed line, then
+!>   leaving them) it jumped by ~26 N every micrometre: d2 / d1 = 1.0 (main c87b9f8); with the
+!>   deepest point found on the smooth wheel (rd_strip_potential smooth_line_depth) 5e-4.
 !> - Tread (yaw 0, 2.0-3.0 mm, 30 um below the line between rigid contact at the ends): the
 !>   patch's contact point, normal and Hertz curvature means, which the creep law sees.
 !>   Interpolated linearly between neighbouring strips, point and normal kinked every ~0.19 mm
@@ -36,6 +40,9 @@ program test_distributed_smoothness
   !> two poses (y, z, roll) of the wheel-load path, 2026-11-29 (the sweep's line between them)
   real(wp), parameter :: flange_a(3) = [6.338e-3_wp, 4.602722731856760e-01_wp, 7.935877691041501e-04_wp]
   real(wp), parameter :: flange_b(3) = [6.348e-3_wp, 4.602830372683690e-01_wp, 8.078696511862200e-04_wp]
+  !> the same at yaw 15 mrad on the flange face (7.540-7.548 mm)
+  real(wp), parameter :: yawed_a(3) = [7.540e-3_wp, 4.654071353644950e-01_wp, 7.547871874250970e-03_wp]
+  real(wp), parameter :: yawed_b(3) = [7.548e-3_wp, 4.654204600062230e-01_wp, 7.565426351360790e-03_wp]
   character(len=*), parameter :: tread_name(3) = [character(len=24) :: 'contact point y', 'normal y component', &
                                                     'lateral Hertz curvature']
   real(wp) :: q(3), t, yf(n), z0, phi0, z1, phi1, ratio1(3), ratio2(3)
@@ -56,6 +63,14 @@ program test_distributed_smoothness
   end do
   call check_within('flange path: lateral force: max |d2| / max |d1|', d2_over_d1('flange path: lateral force', yf), &
                     0.05_wp)
+  do i = 1, n
+    t = real(i - 1, wp) / (n - 1)
+    q = yawed_a + t * (yawed_b - yawed_a)
+    call wheel_contact(geo, SIDE_LEFT, q(1), q(2), q(3), 0.015_wp, r)
+    yf(i) = r%distributed%force(2)
+  end do
+  call check_within('yawed flange path: lateral force: max |d2| / max |d1|', &
+                    d2_over_d1('yawed flange path: lateral force', yf), 0.05_wp)
 
   ! the line between rigid contact lowered by 30 um at both ends; at n and 2n - 1 samples
   call rigid_contact(geo, 2.0e-3_wp, 0.0_wp, z0, phi0, error)
