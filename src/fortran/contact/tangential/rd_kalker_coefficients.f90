@@ -17,7 +17,8 @@
 !> Spot checks: C11(a/b = 1, nu = 0.25) = 4.12; with a = 6 mm, b = 4 mm, nu = 0.28 the
 !> interpolated C11 gives Fx = -93.36 N at xi = 1e-5, CONTACT's exact value (oracles.md).
 !> The table's first half is indexed by g = a/b (0.1 ... 1), the second by g = b/a
-!> (1 ... 0.1); a/b outside [0.1, 10] is clamped to the end rows (Hertz flags it).
+!> (1 ... 0.1); a/b outside [0.1, 10]: the end segment's slope eased to zero over a quarter
+!> row beyond the end row, then held (a C1 clamp; Hertz flags such ellipses).
 module rd_kalker_coefficients
   use rd_kinds, only: wp
   implicit none
@@ -70,7 +71,7 @@ contains
   pure subroutine kalker_coefficients(a_over_b, poisson, c11, c22, c23, c33)
     real(wp), intent(in) :: a_over_b, poisson
     real(wp), intent(out) :: c11, c22, c23, c33
-    real(wp) :: pos, wg, wn, nu
+    real(wp) :: pos, pos_raw, wg, wn, nu
     integer :: ig, jn
     ! position in the row list: 1 + (g - 0.1)/0.1 on the a/b half, 10 + (1 - b/a)/0.1 beyond
     if (a_over_b <= 1.0_wp) then
@@ -78,6 +79,7 @@ contains
     else
       pos = 10.0_wp + (1.0_wp - 1.0_wp / a_over_b) / 0.1_wp
     end if
+    pos_raw = pos
     pos = min(max(pos, 1.0_wp), real(n_rows, wp))
     ig = min(int(pos), n_rows - 1)
     wg = pos - ig
@@ -107,6 +109,16 @@ contains
         s_m = merge(1.0_wp, -1.0_wp, d >= 0) * 0.5_wp * (s_l + s_r)
         interpolate = v(k) + corner_width * ((u**3 - 2 * u**2 + u) * s_m + (-2 * u**3 + 3 * u**2) * s_o &
                                              + (u**3 - u**2) * s_o)
+      end if
+      ! beyond the table's ends (a/b < 0.1 or > 10): the end segment's slope eased to zero
+      ! over corner_width rows, then held (clamping at the end row kinked the coefficients
+      ! there, e.g. the spin moment of a narrow flange patch at a/b = 10)
+      if (pos_raw > n_rows) then
+        d = min(pos_raw - n_rows, corner_width)
+        interpolate = v(n_rows) + (v(n_rows) - v(n_rows - 1)) * (d - d * d / (2 * corner_width))
+      else if (pos_raw < 1) then
+        d = min(1 - pos_raw, corner_width)
+        interpolate = v(1) - (v(2) - v(1)) * (d - d * d / (2 * corner_width))
       end if
     end function interpolate
   end subroutine kalker_coefficients
