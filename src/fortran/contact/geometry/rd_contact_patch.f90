@@ -43,6 +43,12 @@ module rd_contact_patch
     !> this fraction of the forces of the bump it describes; its penetration is
     !> share^(2/3) times the bump's (so that Hertz gives share times the bump's normal force).
     real(wp) :: share = 1
+    !> The distributed strip force's patches (rd_strip_contact): the approach that places the
+    !> patch's material point (half of it inside the wheel, rd_wheelset_contact
+    !> patch_frame_and_point), share^(2/3) times the smooth peak of the strips' depths; the
+    !> penetration above, the refined peak of the cones' depths, kinks where the deepest strip
+    !> changes (it stays the patches' rank and output) [m]
+    real(wp) :: point_depth = 0
   end type patch_geometry_t
 
   !> What the energy-consistent strip normal force (rd_strip_potential, `strip_normal_force =

@@ -474,7 +474,8 @@ contains
     out%max_penetration = wc%max_penetration
     do k = 1, wc%n_patches
       associate (p => wc%patch(k), o => out%patch(k))
-        call patch_frame_and_point(kin, p%normal, p%point_wheel, p%penetration, frame, r_c, v_c)
+        call patch_frame_and_point(kin, p%normal, p%point_wheel, &
+                                   merge(p%point_depth, p%penetration, allocated(wc%distributed)), frame, r_c, v_c)
         xc = frame(:, 1); yc = frame(:, 2); n = frame(:, 3)
         ! d(approach)/dt: the wheel point's velocity relative to the rail material along -n
         rate = -dot_product(v_c - v_rail, n)

@@ -1,7 +1,8 @@
 !> The closed-form Hertzian gap of the strip normal force tests (test_strip_potential,
 !> test_strip_distributed): a conical wheel (conicity 0.05) on a circular rail head (R 0.3 m),
 !> lowered 30 um below rigid contact at zero shift, seen through the centroid force (its
-!> refined peak is the gap's exact approach) and through the force under test.
+!> refined peak is the gap's exact approach) and through the force under test; and the
+!> Manchester profiles' geometry with a given strip normal force.
 module strip_force_test_support
   use rd_kinds, only: wp
   use rd_error, only: error_t
@@ -12,7 +13,7 @@ module strip_force_test_support
   use geometry_test_support, only: cone_wheel_profile, circle_rail_profile
   implicit none
   private
-  public :: cone_on_circle
+  public :: cone_on_circle, manchester_geometry
 
   real(wp), parameter, public :: cone_conicity = 0.05_wp, rail_head_radius = 0.3_wp, lowering = 3.0e-5_wp
 
@@ -42,5 +43,19 @@ contains
     call wheel_contact(geo, SIDE_LEFT, 0.0_wp, z - lowering, phi, 0.0_wp, res)
     call wheel_contact(geo_c, SIDE_LEFT, 0.0_wp, z - lowering, phi, 0.0_wp, res_c)
   end subroutine cone_on_circle
+
+  !> S1002 on 60E1 (the wheelset defaults otherwise) with the strip normal force `force`.
+  subroutine manchester_geometry(force, geo)
+    character(len=*), intent(in) :: force
+    type(contact_geometry_t), intent(out) :: geo
+    type(wheelset_contact_spec_t) :: spec
+    type(error_t), allocatable :: error
+    spec = wheelset_contact_spec_t()
+    spec%wheel_profile = 's1002'
+    spec%rail_profile = '60e1'
+    spec%strip_normal_force = force
+    call build_contact_geometry(spec, geo, error)
+    if (allocated(error)) error stop error%message
+  end subroutine manchester_geometry
 
 end module strip_force_test_support

@@ -25,18 +25,16 @@
 program test_distributed_smoothness
   use rd_kinds, only: wp
   use rd_error, only: error_t
-  use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, build_contact_geometry
   use rd_contact_geometry, only: contact_geometry_t, wheel_contact, SIDE_LEFT
   use rd_contact_patch, only: wheel_contact_t
   use rd_rigid_contact, only: rigid_contact
   use rd_test_support, only: check_within, test_summary
+  use strip_force_test_support, only: manchester_geometry
   use rd_text, only: int_text
   implicit none
   integer, parameter :: n = 1001
-  type(wheelset_contact_spec_t) :: spec
   type(contact_geometry_t) :: geo
   type(error_t), allocatable :: error
-  type(wheel_contact_t) :: r
   !> two poses (y, z, roll) of the wheel-load path, 2026-11-29 (the sweep's line between them)
   real(wp), parameter :: flange_a(3) = [6.338e-3_wp, 4.602722731856760e-01_wp, 7.935877691041501e-04_wp]
   real(wp), parameter :: flange_b(3) = [6.348e-3_wp, 4.602830372683690e-01_wp, 8.078696511862200e-04_wp]
@@ -45,32 +43,12 @@ program test_distributed_smoothness
   real(wp), parameter :: yawed_b(3) = [7.548e-3_wp, 4.654204600062230e-01_wp, 7.565426351360790e-03_wp]
   character(len=*), parameter :: tread_name(3) = [character(len=24) :: 'contact point y', 'normal y component', &
                                                     'lateral Hertz curvature']
-  real(wp) :: q(3), t, yf(n), z0, phi0, z1, phi1, ratio1(3), ratio2(3)
-  integer :: i, k
+  real(wp) :: z0, phi0, z1, phi1, ratio1(3), ratio2(3)
+  integer :: k
 
-  spec = wheelset_contact_spec_t()
-  spec%wheel_profile = 's1002'
-  spec%rail_profile = '60e1'
-  spec%strip_normal_force = 'distributed'
-  call build_contact_geometry(spec, geo, error)
-  if (allocated(error)) error stop error%message
-
-  do i = 1, n
-    t = real(i - 1, wp) / (n - 1)
-    q = flange_a + t * (flange_b - flange_a)
-    call wheel_contact(geo, SIDE_LEFT, q(1), q(2), q(3), 0.0_wp, r)
-    yf(i) = r%distributed%force(2)
-  end do
-  call check_within('flange path: lateral force: max |d2| / max |d1|', d2_over_d1('flange path: lateral force', yf), &
-                    0.05_wp)
-  do i = 1, n
-    t = real(i - 1, wp) / (n - 1)
-    q = yawed_a + t * (yawed_b - yawed_a)
-    call wheel_contact(geo, SIDE_LEFT, q(1), q(2), q(3), 0.015_wp, r)
-    yf(i) = r%distributed%force(2)
-  end do
-  call check_within('yawed flange path: lateral force: max |d2| / max |d1|', &
-                    d2_over_d1('yawed flange path: lateral force', yf), 0.05_wp)
+  call manchester_geometry('distributed', geo)
+  call check_flange_path('flange path', flange_a, flange_b, 0.0_wp)
+  call check_flange_path('yawed flange path', yawed_a, yawed_b, 0.015_wp)
 
   ! the line between rigid contact lowered by 30 um at both ends; at n and 2n - 1 samples
   call rigid_contact(geo, 2.0e-3_wp, 0.0_wp, z0, phi0, error)
@@ -89,6 +67,22 @@ program test_distributed_smoothness
   call test_summary('test_distributed_smoothness')
 
 contains
+
+  !> the lateral force along the line from pose a to pose b (y, z, roll) at yaw psi
+  subroutine check_flange_path(what, a, b, psi)
+    character(len=*), intent(in) :: what
+    real(wp), intent(in) :: a(3), b(3), psi
+    real(wp) :: yf(n), q(3)
+    type(wheel_contact_t) :: rp
+    integer :: i
+    do i = 1, n
+      q = a + real(i - 1, wp) / (n - 1) * (b - a)
+      call wheel_contact(geo, SIDE_LEFT, q(1), q(2), q(3), psi, rp)
+      yf(i) = rp%distributed%force(2)
+    end do
+    call check_within(what // ': lateral force: max |d2| / max |d1|', d2_over_d1(what // ': lateral force', yf), &
+                      0.05_wp)
+  end subroutine check_flange_path
 
   !> max |d2| / max |d1| of the tread patch's point, normal and curvature means over m samples
   subroutine tread_ratios(m, ratio)

@@ -21,7 +21,7 @@ program test_strip_distributed
   use rd_error, only: error_t
   use rd_wheelset_contact_spec, only: wheelset_contact_spec_t, build_contact_geometry, build_hertz_params
   use rd_contact_geometry, only: contact_geometry_t, wheel_contact, SIDE_LEFT, SIDE_RIGHT
-  use strip_force_test_support, only: cone_on_circle
+  use strip_force_test_support, only: cone_on_circle, manchester_geometry
   use geometry_test_support, only: gradient_pose_y, gradient_pose_yaw, &
     gradient_pose_name, gradient_pose_side
   use rd_contact_patch, only: wheel_contact_t
@@ -64,12 +64,7 @@ program test_strip_distributed
   end if
 
   ! 2. the Manchester profiles
-  spec = wheelset_contact_spec_t()
-  spec%wheel_profile = 's1002'
-  spec%rail_profile = '60e1'
-  spec%strip_normal_force = 'distributed'
-  call build_contact_geometry(spec, geo, error)
-  if (allocated(error)) error stop error%message
+  call manchester_geometry('distributed', geo)
   do ip = 1, size(gradient_pose_y)
     call gradient_check(gradient_pose_y(ip), gradient_pose_yaw(ip), trim(gradient_pose_name(ip)), &
       merge(SIDE_LEFT, SIDE_RIGHT, gradient_pose_side(ip) == 1))
