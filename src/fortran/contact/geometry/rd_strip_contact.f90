@@ -212,7 +212,9 @@ contains
       !> each strip's load per unit E*, the derivative of U by its depth, and its depth into
       !> the smooth wheel (both 0 off contact)
       real(wp), intent(inout) :: sload(ilo:), sdepth(ilo:)
-      !> each strip's deepest point on the smooth wheel (the cones' where not evaluated), segment
+      !> each evaluated strip's deepest point on the smooth wheel and its segment (set only for
+      !> the strips of the contact region and their neighbours, the only ones read: the patches'
+      !> curvature means and points)
       real(wp), intent(inout) :: sdeep(:, ilo:)
       integer, intent(inout) :: sdeep_j(ilo:)
       type(strip_normal_t), intent(inout) :: sn
@@ -224,14 +226,13 @@ contains
                   ph(max(i1 - 2, ilo):min(i2 + 2, ihi)), gph(6, max(i1 - 2, ilo):min(i2 + 2, ihi))
       logical :: have(max(i1 - 2, ilo):min(i2 + 2, ihi))
       f6 = 0; sn%energy = 0
-      sload = 0; sdepth = 0; sdeep = 0; sdeep_j = 1
+      sload = 0; sdepth = 0
       if (i1 < ilo) return               ! no strip in contact (i1 = 0)
       ! the contact region's strips and two beyond on either side (evaluated by the search:
       ! the smooth wheel reaches ~h^2 / (8 R), 0.3 um, further than the cones, and an edge
       ! interval needs its outer strip)
       lo = max(i1 - 2, ilo); hi = min(i2 + 2, ihi)
       have = .false.
-      sdeep(:, lo:hi) = pw(:, lo:hi); sdeep_j(lo:hi) = jseg(lo:hi)
       do i = lo, hi
         if (.not. (delta(i) > -coarse_gap)) cycle      ! (interpolated strips: no deepest point)
         have(i) = .true.
@@ -543,7 +544,8 @@ contains
       ! near-conformal profiles it follows the pressure resultant instead of a flat maximum.
       ! Over the bump's stretch a..b only (split_run): Kik & Piotrowski's separate regions.
       p%penetration = pen
-      thr = (1 - virtual_eps) * refined_peak(delta, kc, ilo, ihi)
+      peak = refined_peak(delta, kc, ilo, ihi)
+      thr = (1 - virtual_eps) * peak
       wsum = 0; qsum = 0; krsum = 0; kwsum = 0; wcurv = 0
       if (use_distributed) then
         ! the distributed force: CONTACT's reference point, the centre of the
@@ -574,7 +576,6 @@ contains
           ! the material point's approach: the same smooth peak, share-scaled as pen (pen is
           ! share^(2/3) times the refined peak); the refined peak's kinks moved the point's
           ! radius and the longitudinal creepage (Fx 6 % at 0.23 mm on the tread)
-          peak = refined_peak(delta, kc, ilo, ihi)
           if (peak > 0) p%point_depth = pen / peak * thr / (1 - virtual_eps)
         end if
         do kk = a, b

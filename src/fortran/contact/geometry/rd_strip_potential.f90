@@ -334,7 +334,9 @@ contains
     gpy = deepest_point_py_gradient(q, d, k, .true., ky)
     g = g + (rh - rho) * k * ky / root**3 * gpy
   contains
-    !> the segment holding yq, hunted from j0 (clamped to the profile)
+    !> the segment holding yq, hunted from j0 (clamped to the profile); rd_strip_contact's
+    !> hunt_segment does the same in the strip search, but that module uses this one, and a
+    !> function of another module is not inlined on this hot path
     pure integer function hunt(yq, j0) result(jj)
       real(wp), intent(in) :: yq
       integer, intent(in) :: j0
