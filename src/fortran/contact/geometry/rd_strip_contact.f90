@@ -52,6 +52,9 @@ contains
     !> distributed force: each strip's normal load per unit E*, w_i phi_i s'(delta_i), and its
     !> depth into the smooth wheel (0 off contact; the patch points' weights)
     real(wp), allocatable :: sload(:), sdepth(:)
+    !> distributed force: each evaluated strip's signed depth into the smooth wheel (-huge
+    !> where not evaluated): the depths that decide how a run splits into patches
+    real(wp), allocatable :: sdepth_signed(:)
     !> distributed force: each strip's deepest point on the smooth wheel (intermediate frame)
     !> and its segment: the patches' points and Hertz curvature means are taken there
     real(wp), allocatable :: sdeep(:, :)
@@ -171,8 +174,8 @@ contains
     ! (docs/theory_contact_geometry.md, "Bumps within one run").
     ! the distributed normal force first: the patches take their loads from its strips
     if (use_distributed) then
-      allocate (sload(ilo:ihi), sdepth(ilo:ihi), sdeep(3, ilo:ihi), sdeep_j(ilo:ihi))
-      call distributed_force(ifirst, ilast, sload, sdepth, sdeep, sdeep_j, res%distributed)
+      allocate (sload(ilo:ihi), sdepth(ilo:ihi), sdepth_signed(ilo:ihi), sdeep(3, ilo:ihi), sdeep_j(ilo:ihi))
+      call distributed_force(ifirst, ilast, sload, sdepth, sdepth_signed, sdeep, sdeep_j, res%distributed)
       call attach_edge_loads(sload)
     end if
     i = ifirst
@@ -207,11 +210,13 @@ contains
     !> depth's gradient (rd_strip_potential) and grad c through the deepest points' lateral
     !> positions (their shift included). Force in the track frame, moment about the wheelset
     !> centre in the intermediate frame.
-    pure subroutine distributed_force(i1, i2, sload, sdepth, sdeep, sdeep_j, sn)
+    pure subroutine distributed_force(i1, i2, sload, sdepth, sdepth_signed, sdeep, sdeep_j, sn)
       integer, intent(in) :: i1, i2
       !> each strip's load per unit E*, the derivative of U by its depth, and its depth into
       !> the smooth wheel (both 0 off contact)
       real(wp), intent(inout) :: sload(ilo:), sdepth(ilo:)
+      !> that depth signed (-huge where not evaluated)
+      real(wp), intent(inout) :: sdepth_signed(ilo:)
       !> each evaluated strip's deepest point on the smooth wheel and its segment (set only for
       !> the strips of the contact region and their neighbours, the only ones read: the patches'
       !> curvature means and points)
@@ -233,11 +238,12 @@ contains
       ! interval needs its outer strip)
       lo = max(i1 - 2, ilo); hi = min(i2 + 2, ihi)
       have = .false.
+      sdepth_signed(lo:hi) = -huge(1.0_wp)      ! (only the runs' strips and neighbours are read)
       do i = lo, hi
         if (.not. (delta(i) > -coarse_gap)) cycle      ! (interpolated strips: no deepest point)
         have(i) = .true.
         call smooth_line_depth(pw(:, i), d, jseg(i), wheel%y, wheel%r, wheel%r_spline, q, j, dep(i), gg(:, i), gpy)
-        sdepth(i) = max(dep(i), 0.0_wp)
+        sdepth(i) = max(dep(i), 0.0_wp); sdepth_signed(i) = dep(i)
         sdeep(:, i) = q; sdeep_j(i) = j
         call wheel_point_curvatures(q(2), j, wheel%y, wheel%k_roll, wheel%kappa, k_roll, k_lat, dk_roll, dk_lat)
         ! half sums of the two bodies' curvatures (the straight rail has no rolling one)
@@ -301,43 +307,47 @@ contains
       end do
     end subroutine attach_edge_loads
 
-    !> The distributed normal load of the stretch a..b (per unit E*) between its bounds xl,
-    !> xh: each strip i stands for [i - 1/2, i + 1/2] with a uniform load, and a stretch
-    !> bounded by a refined valley position takes the part of its strip up to that position
-    !> (frac). The blended patches' loads (share times this) then add up to the strips' total,
+    !> The distributed normal load of the stretch a..b of the run r1..r2 (per unit E*)
+    !> between its split positions xl, xh: each strip's part of it (strip_part; a strip next
+    !> to a split position is shared by the stretches on either side). The blended patches'
+    !> loads (share times this) then add up to the strips' total,
     !> (1 - lambda) S_ab + lambda (S_a..xv + S_xv..b) = S_ab, and do not jump where the
-    !> lowest valley strip changes (the refined valley moves continuously).
-    pure real(wp) function stretch_load(a, b, xl, xh) result(s)
-      integer, intent(in) :: a, b
+    !> lowest valley strip changes (the split position moves continuously).
+    pure real(wp) function stretch_load(a, b, r1, r2, xl, xh) result(s)
+      integer, intent(in) :: a, b, r1, r2
       real(wp), intent(in) :: xl, xh
       integer :: i
       s = 0
-      do i = a, b
-        s = s + frac(i, xl, xh) * sload(i)
+      do i = max(a - 2, r1), min(b + 2, r2)
+        s = s + strip_part(i, xl, xh) * sload(i)
       end do
     end function stretch_load
 
-    !> Part of strip i's interval [i - 1/2, i + 1/2] inside [xl, xh].
-    pure real(wp) function frac(i, xl, xh) result(f)
-      integer, intent(in) :: i
-      real(wp), intent(in) :: xl, xh
-      f = max(0.0_wp, min(i + 0.5_wp, xh) - max(i - 0.5_wp, xl))
-    end function frac
-
 
     !> Patches of the run i1..i2. A stretch a..b with a valley (a strip below the maxima on
-    !> both sides; the lowest one, depth v, lower peak d_lo) is, with the split fraction
-    !>    lambda = 1 - v / ((1 - eps) d_lo)   clipped to [0, 1],
+    !> both sides; the lowest one) is, with the split fraction
+    !>    lambda = smoothstep(1 - v / ((1 - eps) d_lo))   (the argument clipped to [0, 1]),
     !> lambda parts two stretches a..kv, kv..b (each handled the same way) and 1 - lambda one
     !> patch over a..b. Kik & Piotrowski (2008) count two bumps as separate contacts while
     !> their virtual-penetration regions delta > (1 - eps) d are disjoint, i.e. while the
-    !> valley is below (1 - eps) d_lo; lambda ramps linearly from touching runs (v = 0:
-    !> lambda = 1, the two patches of the separate runs) to connected regions (lambda = 0,
-    !> one patch, also when the lower bump fades into the flank: v -> d_lo). The part is a
-    !> share of normal force: a patch of share w gets the penetration w^(2/3) delta (Hertz,
-    !> N ~ delta^(3/2) at fixed curvatures, so N scales with w). Where lambda > 0 the valley
-    !> is below both bumps' centroid thresholds (1 - eps) d, so the valley strip contributes
-    !> nothing to either centroid and moving the split from one strip to the next is smooth.
+    !> valley is below (1 - eps) d_lo; lambda ramps from touching runs (v = 0: lambda = 1, the
+    !> two patches of the separate runs) to connected regions (lambda = 0, one patch, also
+    !> when the lower bump fades into the flank: v -> d_lo). The part is a share of normal
+    !> force: a patch of share w gets the penetration w^(2/3) delta (Hertz, N ~ delta^(3/2)
+    !> at fixed curvatures, so N scales with w). Where lambda > 0 the valley is below both
+    !> bumps' centroid thresholds (1 - eps) d, so the valley strip contributes nothing to
+    !> either centroid and moving the split from one strip to the next is smooth.
+    !>
+    !> v and the peaks are extrema of the C1 interpolant through the strips' depths
+    !> (cubic_minimum), d_lo a smooth minimum of the two peaks (smooth_min), the split
+    !> position xv the minimum of the C2 B-spline of the depths, and the strips next to it
+    !> shared between the two stretches (strip_part): the lowest strip's depth and the
+    !> highest ones' kinked lambda wherever the valley's or a peak's strip changed, and a
+    !> strip's box split at xv kinked the patches where xv crossed a strip's edge (Fx by 28 %
+    !> of its range-scaled slope where the flange root's region merges with the tread's;
+    !> docs/theory_contact_geometry.md "Bumps within one run"). The depths are the smooth wheel's
+    !> with the distributed force (the cones' kink where a line's deepest point changes
+    !> profile point), the cones' otherwise.
     !> Continuous except where two valleys of one run tie while both split (rare).
     pure subroutine split_run(i1, i2, np, patch, pot, sn)
       integer, intent(in) :: i1, i2
@@ -348,62 +358,79 @@ contains
       !> the distributed normal force (allocated with it only): the patches' loads
       type(strip_normal_t), allocatable, intent(inout) :: sn
       integer, parameter :: stack_size = 32
-      integer :: lo(stack_size), hi(stack_size), top, a, b, kv, k, kc, klo
+      integer :: lo(stack_size), hi(stack_size), top, a, b, kv, k, kc, kl, kr
       real(wp) :: share(stack_size), wn, v, pmax, lambda, x, dlo, dlam(6), gshare(6, stack_size), gw(6)
-      ! the stretches' bounds in strip units: the run's ends, else a refined valley position
+      real(wp) :: tv, sb, wv(5), wb(5), pl, wl(5), pr, wr(5), dlo_l, dlo_r, gv(6), gd(6), tp
+      ! the stretches' split positions in strip units (strip_part)
       real(wp) :: xlo(stack_size), xhi(stack_size), xl, xh, xv
-      real(wp) :: smax(i1:i2)     ! smax(k) = max(delta(k+1:b)) of the current stretch
+      real(wp) :: smax(i1:i2)     ! smax(k) = max(ds(k+1:b)) of the current stretch
+      ! the depths that decide the split, with two neighbours either side (-huge: none)
+      real(wp) :: ds(i1 - 2:i2 + 2)
+      do k = i1 - 2, i2 + 2
+        ds(k) = -huge(1.0_wp)
+        if (k < ilo .or. k > ihi) cycle
+        if (use_distributed) then
+          ds(k) = sdepth_signed(k)
+        else
+          ds(k) = delta(k)
+        end if
+      end do
       top = 1
       lo(1) = i1; hi(1) = i2; share(1) = 1; gshare(:, 1) = 0
-      xlo(1) = i1 - 0.5_wp; xhi(1) = i2 + 0.5_wp
+      xlo(1) = -huge(1.0_wp); xhi(1) = huge(1.0_wp)     ! (the run's ends: strip_part)
       do while (top > 0)
         a = lo(top); b = hi(top); wn = share(top); gw = gshare(:, top); xl = xlo(top); xh = xhi(top)
         top = top - 1
         kc = a - 1 + maxloc(delta(a:b), dim=1)
         ! lowest valley: a strip strictly below the maxima on both of its sides
-        ! (suffix maxima in one backward pass: maxval(delta(k+1:b)) for every candidate
+        ! (suffix maxima in one backward pass: maxval(ds(k+1:b)) for every candidate
         ! was quadratic in the run length, 200 strips at 0.05 mm)
         kv = 0
         v = huge(1.0_wp)
         if (b - a >= 2) then
-          smax(b - 1) = delta(b)
+          smax(b - 1) = ds(b)
           do k = b - 2, a + 1, -1
-            smax(k) = max(smax(k + 1), delta(k + 1))
+            smax(k) = max(smax(k + 1), ds(k + 1))
           end do
         end if
-        pmax = delta(a)
+        pmax = ds(a)
         do k = a + 1, b - 1
-          if (delta(k) < pmax .and. delta(k) < v) then
-            if (delta(k) < smax(k)) then
-              kv = k; v = delta(k)
+          if (ds(k) < pmax .and. ds(k) < v) then
+            if (ds(k) < smax(k)) then
+              kv = k; v = ds(k)
             end if
           end if
-          pmax = max(pmax, delta(k))
+          pmax = max(pmax, ds(k))
         end do
         lambda = 0
         dlam = 0
         if (kv > 0 .and. top + 2 <= stack_size) then
-          dlo = min(maxval(delta(a:kv)), maxval(delta(kv:b)))      ! the lower of the two peaks
+          ! the valley and the two peaks on the interpolant through the depths
+          call cubic_minimum(ds(kv - 2:kv + 2), .false., v, wv, tp)
+          call cubic_minimum(ds(kv - 2:kv + 2), .true., sb, wb, tv)    ! (the split's position)
+          kl = a - 1 + maxloc(ds(a:kv), dim=1)
+          kr = kv - 1 + maxloc(ds(kv:b), dim=1)
+          call cubic_minimum(-ds(kl - 2:kl + 2), .false., pl, wl, tp)
+          call cubic_minimum(-ds(kr - 2:kr + 2), .false., pr, wr, tp)
+          pl = -pl; pr = -pr
+          call smooth_min(pl, pr, dlo, dlo_l, dlo_r)      ! the lower of the two peaks
           x = 1 - v / ((1 - virtual_eps) * dlo)
           x = min(max(x, 0.0_wp), 1.0_wp)
           ! C1 ramp (smoothstep): the linear ramp's slope jumped where the split starts/ends
           lambda = x * x * (3 - 2 * x)
           ! its pose gradient (potential patches, the share term of rd_strip_potential):
-          ! dx = (-d v + (v / dlo) d dlo) / ((1 - eps) dlo), d delta_i = -G_i d pose, with
-          ! klo the lower peak's strip
+          ! dx = (-d v + (v / dlo) d dlo) / ((1 - eps) dlo), d delta_i = -G_i d pose, the
+          ! extrema's derivatives by the depths their spline weights
           if (use_potential .and. x > 0 .and. x < 1) then
-            if (maxval(delta(a:kv)) <= maxval(delta(kv:b))) then
-              klo = a - 1 + maxloc(delta(a:kv), dim=1)
-            else
-              klo = kv - 1 + maxloc(delta(kv:b), dim=1)
-            end if
-            dlam = 6 * x * (1 - x) * (strip_wrench(kv) - (v / dlo) * strip_wrench(klo)) / ((1 - virtual_eps) * dlo)
+            gv = weighted_wrench(kv, wv)
+            gd = dlo_l * weighted_wrench(kl, wl) + dlo_r * weighted_wrench(kr, wr)
+            dlam = 6 * x * (1 - x) * (gv - (v / dlo) * gd) / ((1 - virtual_eps) * dlo)
           end if
         end if
         if (lambda < 1) call add_patch(a, b, kc, wn * (1 - lambda), i1, i2, xl, xh, np, patch, pot, sn, &
                                      (1 - lambda) * gw - wn * dlam)
         if (lambda > 0) then
-          xv = kv + valley_offset_of(delta, kv)
+          xv = kv + tv
           top = top + 1
           lo(top) = a; hi(top) = kv; share(top) = wn * lambda; gshare(:, top) = lambda * gw + wn * dlam
           xlo(top) = xl; xhi(top) = xv
@@ -413,6 +440,19 @@ contains
         end if
       end do
     end subroutine split_run
+
+    !> sum over strips k-2..k+2 of w G: minus the gradient of an interpolant's extremum near
+    !> strip k (weights w) with respect to the wheel's pose (strips with weight 0 not read)
+    pure function weighted_wrench(k, w) result(g)
+      integer, intent(in) :: k
+      real(wp), intent(in) :: w(-2:2)
+      real(wp) :: g(6)
+      integer :: j
+      g = 0
+      do j = -2, 2
+        if (w(j) /= 0) g = g + w(j) * strip_wrench(k + j)
+      end do
+    end function weighted_wrench
 
     !> One patch over the stretch a..b (peak strip kc, bounds xl..xh in strip units) of the
     !> run r1..r2 with force share wn.
@@ -443,7 +483,7 @@ contains
       end if
       call fill_patch(patch(iw), a, b, kc, pen, r1, r2, xl, xh)
       patch(iw)%share = wn
-      if (use_distributed) sn%patch_load(iw) = wn * stretch_load(a, b, xl, xh)
+      if (use_distributed) sn%patch_load(iw) = wn * stretch_load(a, b, r1, r2, xl, xh)
       if (use_potential) then
         patch(iw)%curv_wheel_roll = curv(1)
         patch(iw)%curv_wheel_lat = curv(2)
@@ -534,7 +574,7 @@ contains
       type(patch_geometry_t), intent(out) :: p
       integer, intent(in) :: a, b, kc, r1, r2
       real(wp), intent(in) :: pen
-      real(wp), intent(in) :: xl, xh          !< the stretch's bounds (distributed force)
+      real(wp), intent(in) :: xl, xh          !< the stretch's split positions (distributed force)
       real(wp) :: x, w, slope, rr, ky, te, tx, thr, wsum, qsum, krsum, kwsum, wq, wcurv, lsum, lsum1, peak
       integer :: kk, jw
       ! Contact point: centroid of the strips inside the virtual-penetration region of
@@ -563,10 +603,11 @@ contains
         ! gap: rd_strip_potential effective_penetration); the refined peak of the cones' depths
         ! kinked where the deepest strip changed, and the means with it
         lsum = 0; lsum1 = 0
-        do kk = a, b
+        ! (the strips next to a split position are shared with the neighbouring stretch)
+        do kk = max(a - 2, r1), min(b + 2, r2)
           if (sdepth(kk) > 0) then
-            lsum = lsum + frac(kk, xl, xh) * sdepth(kk)**lehmer_order
-            lsum1 = lsum1 + frac(kk, xl, xh) * sdepth(kk)**(lehmer_order - 1)
+            lsum = lsum + strip_part(kk, xl, xh) * sdepth(kk)**lehmer_order
+            lsum1 = lsum1 + strip_part(kk, xl, xh) * sdepth(kk)**(lehmer_order - 1)
           end if
         end do
         thr = 0
@@ -578,11 +619,11 @@ contains
           ! radius and the longitudinal creepage (Fx 6 % at 0.23 mm on the tread)
           if (peak > 0) p%point_depth = pen / peak * thr / (1 - virtual_eps)
         end if
-        do kk = a, b
+        do kk = max(a - 2, r1), min(b + 2, r2)
           if (sdepth(kk) > 0) then
             ! the strips' depths into the smooth wheel: those into the cones kinked the point
             ! wherever a strip's deepest point crossed a profile point
-            wq = frac(kk, xl, xh) * rail%width(kk) * sdepth(kk)**2 * sqrt(sdepth(kk))
+            wq = strip_part(kk, xl, xh) * rail%width(kk) * sdepth(kk)**2 * sqrt(sdepth(kk))
             wsum = wsum + wq
             qsum = qsum + wq * (kk - kc)
           end if
@@ -590,7 +631,7 @@ contains
             ! squared weights: a strip crossing the threshold enters the means with zero
             ! slope (with delta - thr the curvatures, the Hertz ellipse and the creep forces
             ! kinked there, every few hundredths of a millimetre of shift on a wide tread patch)
-            wq = frac(kk, xl, xh) * (sdepth(kk) - thr)**2
+            wq = strip_part(kk, xl, xh) * (sdepth(kk) - thr)**2
             wcurv = wcurv + wq
             krsum = krsum + wq * rail%kappa(kk)
             kwsum = kwsum + wq * wheel_kappa_smooth(kk)
@@ -1053,6 +1094,125 @@ contains
     lerp = u + w * (v - u)
   end function lerp
 
+  !> Local minimum near strip k (a strip no deeper than its neighbours) of a cubic curve
+  !> through the strips' depths d(k-2..k+2), on the piece between strip k and the neighbour
+  !> it falls towards: its value s, the weights w (s = sum w d: the derivatives of s by the
+  !> depths, s' = 0 there) and its offset t from strip k. Two curves:
+  !> - interpolating (Catmull-Rom: cubic Hermite between strips with the slopes
+  !>   (d(j+1) - d(j-1)) / 2; C1, through every depth): s <= d(k), so s <= 0 where the valley
+  !>   strip leaves contact (two runs join with lambda = 1: no jump; a mean of the depths such
+  !>   as an approximating spline's minimum is still positive there);
+  !> - bspline (the uniform cubic B-spline with the depths as control points; C2, so its
+  !>   minimum's position is C1 in the depths: the interpolant's s'' jumps at the strips and
+  !>   its minimum's position kinks there).
+  !> Either curve is one function along the strips, so its minimum moves continuously where
+  !> the lowest strip changes to a neighbour (it lies between the two) and s is C1 in the
+  !> depths where the lowest strip's own depth kinks. A missing depth (+-huge) or a minimum
+  !> outside the piece (a degenerate valley) gives the strip itself.
+  pure subroutine cubic_minimum(d, bspline, s, w, t)
+    real(wp), intent(in) :: d(-2:2)
+    logical, intent(in) :: bspline
+    real(wp), intent(out) :: s, w(-2:2), t
+    real(wp) :: q(0:3), a, b, c, sq, tt, h00, h10, h01, h11
+    integer :: j0
+    w = 0; w(0) = 1; s = d(0); t = 0
+    if (any(abs(d) >= huge(1.0_wp))) return       ! (a peak's depths come negated)
+    ! the slope at strip k, (d(1) - d(-1)) / 2 on both curves, says which piece
+    if (d(1) < d(-1)) then
+      j0 = 0          ! falling through strip k: the minimum is on its right
+    else if (d(1) > d(-1)) then
+      j0 = -1
+    else
+      return
+    end if
+    q = d(j0 - 1:j0 + 2)
+    ! the piece's derivative in its parameter tt in [0, 1]: a tt^2 + b tt + c
+    if (bspline) then
+      a = 0.5_wp * (-q(0) + 3 * q(1) - 3 * q(2) + q(3)); b = q(0) - 2 * q(1) + q(2); c = 0.5_wp * (q(2) - q(0))
+    else
+      ! Hermite from q(1) to q(2) with the slopes h = (q(2) - q(0)) / 2, g = (q(3) - q(1)) / 2
+      h00 = 0.5_wp * (q(2) - q(0)); h01 = 0.5_wp * (q(3) - q(1))
+      a = 3 * (2 * (q(1) - q(2)) + h00 + h01); b = 2 * (3 * (q(2) - q(1)) - 2 * h00 - h01); c = h00
+    end if
+    ! the minimum: the root with the second derivative 2 a tt + b = sqrt(disc) > 0
+    tt = -1
+    if (a == 0) then
+      if (b > 0) tt = -c / b
+    else if (b * b - 4 * a * c >= 0) then
+      sq = sqrt(b * b - 4 * a * c)
+      if (b > 0) then
+        tt = 2 * c / (-b - sq)            ! = (-b + sq) / (2 a) without the cancellation
+      else
+        tt = (-b + sq) / (2 * a)
+      end if
+    end if
+    if (.not. (tt >= 0 .and. tt <= 1)) return
+    w = 0
+    if (bspline) then
+      w(j0 - 1) = (1 - tt)**3 / 6
+      w(j0) = (3 * tt**3 - 6 * tt**2 + 4) / 6
+      w(j0 + 1) = (-3 * tt**3 + 3 * tt**2 + 3 * tt + 1) / 6
+      w(j0 + 2) = tt**3 / 6
+    else
+      h00 = (1 + 2 * tt) * (1 - tt)**2; h10 = tt * (1 - tt)**2
+      h01 = tt**2 * (3 - 2 * tt); h11 = tt**2 * (tt - 1)
+      w(j0 - 1) = -0.5_wp * h10
+      w(j0) = h00 - 0.5_wp * h11
+      w(j0 + 1) = h01 + 0.5_wp * h10
+      w(j0 + 2) = 0.5_wp * h11
+    end if
+    s = sum(w * d)
+    t = j0 + tt
+  end subroutine cubic_minimum
+
+  !> Part of strip i in the stretch between the split positions xl < xh (in strip units;
+  !> -huge / +huge at a run's ends): G(xh - i) - G(xl - i), G the integral of the quadratic
+  !> B-spline B2 (support -3/2..3/2, the box of a strip smoothed once). The parts of one strip
+  !> in two neighbouring stretches add up to its whole; the part's derivative by a split
+  !> position is B2 there, continuous (with the box, the part's slope jumped wherever a
+  !> split position crossed a strip's edge: the patches' loads, curvature means and points
+  !> kinked).
+  pure real(wp) function strip_part(i, xl, xh) result(f)
+    integer, intent(in) :: i
+    real(wp), intent(in) :: xl, xh
+    f = b2_integral(xh - i) - b2_integral(xl - i)
+  end function strip_part
+
+  !> G(u) = integral of the quadratic B-spline from -3/2 to u
+  pure real(wp) function b2_integral(u) result(g)
+    real(wp), intent(in) :: u
+    if (u <= -1.5_wp) then
+      g = 0
+    else if (u <= -0.5_wp) then
+      g = (u + 1.5_wp)**3 / 6
+    else if (u <= 0.5_wp) then
+      g = 0.5_wp + 0.75_wp * u - u**3 / 3
+    else if (u < 1.5_wp) then
+      g = 1 - (1.5_wp - u)**3 / 6
+    else
+      g = 1
+    end if
+  end function b2_integral
+
+  !> Smooth minimum of two positive values, m = (p + q - sqrt((p - q)^2 + (mu (p + q))^2)) / 2
+  !> (homogeneous of degree one; (1 - mu) p where p = q, within mu^2 (p + q)^2 / (4 |p - q|)
+  !> of min(p, q) away from it) and its derivatives: min(p, q) kinks where the two
+  !> peaks of a run are equally deep.
+  pure subroutine smooth_min(p, q, m, dm_dp, dm_dq)
+    real(wp), intent(in) :: p, q
+    real(wp), intent(out) :: m, dm_dp, dm_dq
+    real(wp), parameter :: mu = 0.05_wp
+    real(wp) :: r
+    r = sqrt((p - q)**2 + (mu * (p + q))**2)
+    m = 0.5_wp * (p + q - r)
+    if (r > 0) then
+      dm_dp = 0.5_wp * (1 - ((p - q) + mu**2 * (p + q)) / r)
+      dm_dq = 0.5_wp * (1 - (-(p - q) + mu**2 * (p + q)) / r)
+    else
+      dm_dp = 0.5_wp; dm_dq = 0.5_wp
+    end if
+  end subroutine smooth_min
+
   !> Vertex offset (in strips, within +-0.5) of the parabola through delta(k-1..k+1).
   pure real(wp) function peak_offset(delta, k, ilo, ihi) result(x)
     real(wp), contiguous, intent(in) :: delta(:)
@@ -1067,20 +1227,6 @@ contains
     x = 0.5_wp * (dm - dp) / den
     x = min(max(x, -0.5_wp), 0.5_wp)
   end function peak_offset
-
-  !> Offset of the vertex of the parabola through strips k-1, k, k+1 from strip k where k
-  !> is a valley (in [-1/2, 1/2]; 0 if the three are not convex): continuous where the
-  !> lowest strip of a flat valley bottom changes (+1/2 of one stencil = -1/2 of the next).
-  pure real(wp) function valley_offset_of(delta, k) result(x)
-    real(wp), intent(in) :: delta(:)
-    integer, intent(in) :: k
-    real(wp) :: den
-    x = 0
-    den = delta(k - 1) - 2 * delta(k) + delta(k + 1)
-    if (den <= 0) return
-    x = 0.5_wp * (delta(k - 1) - delta(k + 1)) / den
-    x = min(max(x, -0.5_wp), 0.5_wp)
-  end function valley_offset_of
 
   !> Vertex value of that parabola (= delta(k) at the ends of the window).
   pure real(wp) function refined_peak(delta, k, ilo, ihi) result(v)

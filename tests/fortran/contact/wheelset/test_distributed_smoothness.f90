@@ -22,13 +22,22 @@
 !>   wheel's curvature linear between the points, the threshold from the cones' refined peak)
 !>   kinked wherever a strip crossed the threshold or a point (0.26). Now 3.4e-4, 3.4e-4 and
 !>   2.4e-3, halving with the step (2001 samples: 1.7e-4, 1.7e-4, 1.2e-3), which is checked.
+!> - Where the flange root's contact region merges with the tread's (yaw 0: 4.80-5.10 mm,
+!>   yaw 15 mrad: 4.95-5.15 mm, lines between poses of the same path; the split's blend
+!>   fraction lambda between 0 and 1 all along): the patches' load-weighted lateral point,
+!>   approach and lateral Hertz curvature. With lambda from the lowest strip's and the
+!>   highest strips' depths and each strip's box split at the valley's refined position (main
+!>   c385985) they kinked wherever those strips changed or the position crossed a strip's
+!>   edge: the ratio at half the step / at the step 0.82-1.40. With the valley and peaks on a
+!>   C1 interpolant of the depths, the split position on a C2 B-spline and the strips' parts
+!>   smoothed (rd_strip_contact cubic_minimum, strip_part): 0.50-0.52; checked below 0.6.
 program test_distributed_smoothness
   use rd_kinds, only: wp
   use rd_error, only: error_t
   use rd_contact_geometry, only: contact_geometry_t, wheel_contact, SIDE_LEFT
   use rd_contact_patch, only: wheel_contact_t
   use rd_rigid_contact, only: rigid_contact
-  use rd_test_support, only: check_within, test_summary
+  use rd_test_support, only: check, check_within, test_summary
   use strip_force_test_support, only: manchester_geometry
   use rd_text, only: int_text
   implicit none
@@ -41,6 +50,14 @@ program test_distributed_smoothness
   !> the same at yaw 15 mrad on the flange face (7.540-7.548 mm)
   real(wp), parameter :: yawed_a(3) = [7.540e-3_wp, 4.654071353644950e-01_wp, 7.547871874250970e-03_wp]
   real(wp), parameter :: yawed_b(3) = [7.548e-3_wp, 4.654204600062230e-01_wp, 7.565426351360790e-03_wp]
+  !> the same where the tread's and the flange root's contact regions merge (4.80-5.10 mm;
+  !> at yaw 15 mrad 4.95-5.15 mm)
+  real(wp), parameter :: merge_a(3) = [4.800e-3_wp, 4.5992828312187761e-01_wp, 3.2129054137784127e-04_wp]
+  real(wp), parameter :: merge_b(3) = [5.100e-3_wp, 4.5995751864662521e-01_wp, 3.6375722952886080e-04_wp]
+  real(wp), parameter :: yawed_merge_a(3) = [4.950e-3_wp, 4.5993549594416716e-01_wp, 3.3405459509647738e-04_wp]
+  real(wp), parameter :: yawed_merge_b(3) = [5.150e-3_wp, 4.5995565517983905e-01_wp, 3.6321161864230590e-04_wp]
+  character(len=*), parameter :: merge_name(3) = [character(len=24) :: 'load-weighted point y', &
+                                                    'load-weighted approach', 'load-weighted curvature']
   character(len=*), parameter :: tread_name(3) = [character(len=24) :: 'contact point y', 'normal y component', &
                                                     'lateral Hertz curvature']
   real(wp) :: z0, phi0, z1, phi1, ratio1(3), ratio2(3)
@@ -49,6 +66,8 @@ program test_distributed_smoothness
   call manchester_geometry('distributed', geo)
   call check_flange_path('flange path', flange_a, flange_b, 0.0_wp)
   call check_flange_path('yawed flange path', yawed_a, yawed_b, 0.015_wp)
+  call check_merge_path('tread and flange root merging', merge_a, merge_b, 0.0_wp)
+  call check_merge_path('tread and flange root merging, yaw 15 mrad', yawed_merge_a, yawed_merge_b, 0.015_wp)
 
   ! the line between rigid contact lowered by 30 um at both ends; at n and 2n - 1 samples
   call rigid_contact(geo, 2.0e-3_wp, 0.0_wp, z0, phi0, error)
@@ -83,6 +102,54 @@ contains
     call check_within(what // ': lateral force: max |d2| / max |d1|', d2_over_d1(what // ': lateral force', yf), &
                       0.05_wp)
   end subroutine check_flange_path
+
+  !> Where the flange root's contact region merges with the tread's (the line between two
+  !> poses a, b (y, z, roll) of the wheel-load path at yaw psi): the patches' load-weighted
+  !> lateral point, approach and lateral Hertz curvature, the creep law's inputs that the
+  !> split fraction lambda moves between the merged patch and the two separate ones; C1:
+  !> their d2 / d1 halves with the step.
+  subroutine check_merge_path(what, a, b, psi)
+    character(len=*), intent(in) :: what
+    real(wp), intent(in) :: a(3), b(3), psi
+    real(wp) :: r1(3), r2(3)
+    integer :: k, blended
+    call merge_ratios(what, a, b, psi, n, r1, blended)
+    call merge_ratios(what, a, b, psi, 2 * n - 1, r2, blended)
+    ! the sweep must cross the blend (some patch with a share strictly between 0 and 1)
+    call check(blended > 10, what // ': the line crosses the blend of the split (a patch share in (0, 1))')
+    do k = 1, 3
+      call check_within(what // ': ' // trim(merge_name(k)) // ': the ratio at half the step / at the step', &
+                        r2(k) / r1(k), 0.6_wp)
+    end do
+  end subroutine check_merge_path
+
+  !> the merge path's d2 / d1 over m samples and the samples with a blended patch
+  subroutine merge_ratios(what, a, b, psi, m, ratio, blended)
+      character(len=*), intent(in) :: what
+      real(wp), intent(in) :: a(3), b(3), psi
+      integer, intent(in) :: m
+      real(wp), intent(out) :: ratio(3)
+      integer, intent(out) :: blended
+      real(wp) :: v(m, 3), q(3), load, nw
+      type(wheel_contact_t) :: rm
+      integer :: i, p
+      blended = 0
+      do i = 1, m
+        q = a + real(i - 1, wp) / (m - 1) * (b - a)
+        call wheel_contact(geo, SIDE_LEFT, q(1), q(2), q(3), psi, rm)
+        load = sum(rm%distributed%patch_load(1:rm%n_patches))
+        v(i, :) = 0
+        do p = 1, rm%n_patches
+          nw = rm%distributed%patch_load(p) / load
+          v(i, :) = v(i, :) + nw * [rm%patch(p)%point_rail(2), rm%patch(p)%point_depth, &
+                                    rm%patch(p)%curv_wheel_lat + rm%patch(p)%curv_rail_lat]
+        end do
+        if (any(rm%patch(1:rm%n_patches)%share < 1 .and. rm%patch(1:rm%n_patches)%share > 0)) blended = blended + 1
+      end do
+      do i = 1, 3
+        ratio(i) = d2_over_d1(what // ' (' // trim(int_text(m)) // ' samples): ' // trim(merge_name(i)), v(:, i))
+      end do
+  end subroutine merge_ratios
 
   !> max |d2| / max |d1| of the tread patch's point, normal and curvature means over m samples
   subroutine tread_ratios(m, ratio)
