@@ -11,6 +11,7 @@ module rd_contact_surfaces
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, error_context, RD_ERR_INPUT
   use rd_profile, only: profile_t, PROFILE_WHEEL, PROFILE_RAIL, resample_profile
+  use rd_natural_splines, only: natural_spline, natural_quintic_spline
   implicit none
   private
   public :: track_placement_t, surface_options_t, wheel_surface_t, rail_surface_t
@@ -49,9 +50,14 @@ module rd_contact_surfaces
     !> principal curvature in the rolling direction at the points, cos(gamma)/r =
     !> 1 / (r sqrt(1 + slope^2)) (thesis eq. 4.75) [1/m]
     real(wp), allocatable :: k_roll(:)
-    !> second derivatives d2r/dy2 at the points of the natural cubic spline through (y, r): the
-    !> smooth (C2) wheel of the distributed strip force (rd_strip_potential smooth_wheel_radius)
-    real(wp), allocatable :: r_spline(:)
+    !> second and fourth derivatives d2r/dy2, d4r/dy4 at the points of the natural quintic
+    !> spline through (y, r) (rd_natural_splines): the smooth (C4) wheel of the distributed
+    !> strip force (rd_strip_potential smooth_line_depth, smooth_wheel_radius)
+    real(wp), allocatable :: r_spline(:), r_fourth(:)
+    !> second derivatives along y of the natural cubic splines through k_roll and kappa: the
+    !> curvatures C2 along the profile (rd_strip_potential wheel_point_curvatures), so that the
+    !> strip stiffness's gradient term, which holds their derivatives, is C1
+    real(wp), allocatable :: k_roll_spline(:), kappa_spline(:)
     real(wp) :: r_max = 0
     real(wp) :: nominal_radius = 0
     real(wp) :: y_tape = 0              !< lateral position of the tape circle [m]
@@ -113,7 +119,13 @@ contains
                        (wheel%y(min(i + 1, n)) - wheel%y(max(i - 1, 1)))
     end do
     wheel%k_roll = 1 / (wheel%r * sqrt(1 + wheel%slope**2))
-    call natural_spline(wheel%y, wheel%r, wheel%r_spline)
+    call natural_quintic_spline(wheel%y, wheel%r, wheel%r_spline, wheel%r_fourth, error)
+    if (allocated(error)) then
+      call error_context(error, 'build_wheel_surface')
+      return
+    end if
+    call natural_spline(wheel%y, wheel%k_roll, wheel%k_roll_spline)
+    call natural_spline(wheel%y, wheel%kappa, wheel%kappa_spline)
     allocate (wheel%cone_slope(n - 1))
     do i = 1, n - 1
       wheel%cone_slope(i) = (wheel%r(i + 1) - wheel%r(i)) / (wheel%y(i + 1) - wheel%y(i))
@@ -210,30 +222,6 @@ contains
       rail%nz(i) = t1 / tn
     end do
   end subroutine build_rail_surface
-
-  !> Second derivatives m of the natural cubic spline through (x, f) (m = 0 at both ends):
-  !> h_(i-1) m_(i-1) + 2 (h_(i-1) + h_i) m_i + h_i m_(i+1) = 6 (f'_i - f'_(i-1)), solved by
-  !> the Thomas algorithm (diagonally dominant: no pivoting needed).
-  pure subroutine natural_spline(x, f, m)
-    real(wp), intent(in) :: x(:), f(:)
-    real(wp), allocatable, intent(out) :: m(:)
-    real(wp) :: c(size(x)), rhs(size(x)), h0, h1, den
-    integer :: n, i
-    n = size(x)
-    allocate (m(n))
-    m = 0
-    if (n < 3) return
-    c = 0; rhs = 0
-    do i = 2, n - 1
-      h0 = x(i) - x(i - 1); h1 = x(i + 1) - x(i)
-      den = 2 * (h0 + h1) - h0 * c(i - 1)
-      c(i) = h1 / den
-      rhs(i) = (6 * ((f(i + 1) - f(i)) / h1 - (f(i) - f(i - 1)) / h0) - h0 * rhs(i - 1)) / den
-    end do
-    do i = n - 1, 2, -1
-      m(i) = rhs(i) - c(i) * m(i + 1)
-    end do
-  end subroutine natural_spline
 
   !> Index j with y(j) <= x < y(j+1), clamped to [1, n-1] (bisection).
   pure integer function locate(y, x) result(j)

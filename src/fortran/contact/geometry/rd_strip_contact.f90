@@ -242,10 +242,12 @@ contains
       do i = lo, hi
         if (.not. (delta(i) > -coarse_gap)) cycle      ! (interpolated strips: no deepest point)
         have(i) = .true.
-        call smooth_line_depth(pw(:, i), d, jseg(i), wheel%y, wheel%r, wheel%r_spline, q, j, dep(i), gg(:, i), gpy)
+        call smooth_line_depth(pw(:, i), d, jseg(i), wheel%y, wheel%r, wheel%r_spline, wheel%r_fourth, q, j, dep(i), gg(:, i), &
+                               gpy)
         sdepth(i) = max(dep(i), 0.0_wp); sdepth_signed(i) = dep(i)
         sdeep(:, i) = q; sdeep_j(i) = j
-        call wheel_point_curvatures(q(2), j, wheel%y, wheel%k_roll, wheel%kappa, k_roll, k_lat, dk_roll, dk_lat)
+        call wheel_point_curvatures(q(2), j, wheel%y, wheel%k_roll, wheel%kappa, k_roll, k_lat, dk_roll, dk_lat, &
+                                    wheel%k_roll_spline, wheel%kappa_spline)
         ! half sums of the two bodies' curvatures (the straight rail has no rolling one)
         call strip_stiffness(0.5_wp * k_roll, 0.5_wp * (k_lat + rail%kappa(i)), ph(i), dph_da, dph_db)
         gph(:, i) = 0.5_wp * (dph_da * dk_roll + dph_db * dk_lat) * gpy
@@ -674,7 +676,8 @@ contains
       ! the distributed force's patches: the smooth wheel's radius and slope (that of its
       ! strip depths, C1 along the profile; linear between the points kinked the rolling
       ! radius, and with it the longitudinal creepage, at every profile point)
-      if (use_distributed) call smooth_wheel_radius(p%point_wheel(2), jw, wheel%y, wheel%r, wheel%r_spline, rr, slope, ky)
+      if (use_distributed) call smooth_wheel_radius(p%point_wheel(2), jw, wheel%y, wheel%r, wheel%r_spline, wheel%r_fourth, &
+                                                   rr, slope, ky)
       p%rolling_radius = rr
       p%curv_wheel_lat = wheel%kappa(jw) + x * (wheel%kappa(jw + 1) - wheel%kappa(jw))
       if (wcurv > 0) p%curv_wheel_lat = kwsum / wcurv    ! (see curv_rail_lat)
@@ -774,15 +777,16 @@ contains
       p%contact_angle = atan2(p%normal(2), p%normal(3))
     end subroutine blend_point
 
-    !> Wheel profile curvature at rail line i's deepest point on the smooth wheel, C1 along the
-    !> profile (rd_strip_potential wheel_point_curvatures: the distributed force's). Linear
+    !> Wheel profile curvature at rail line i's deepest point on the smooth wheel, smooth along the
+    !> profile (C2: rd_strip_potential wheel_point_curvatures, the distributed force's). Linear
     !> between the points it kinked the patches' Hertz curvature means at every profile point,
     !> and at the cones' deepest point, which a yawed line holds on a profile point for a while,
     !> on the yawed flange every few hundredths of a millimetre.
     pure real(wp) function wheel_kappa_smooth(i) result(k)
       integer, intent(in) :: i
       real(wp) :: k_roll, dk_roll, dk_lat
-      call wheel_point_curvatures(sdeep(2, i), sdeep_j(i), wheel%y, wheel%k_roll, wheel%kappa, k_roll, k, dk_roll, dk_lat)
+      call wheel_point_curvatures(sdeep(2, i), sdeep_j(i), wheel%y, wheel%k_roll, wheel%kappa, k_roll, k, dk_roll, &
+                                  dk_lat, wheel%k_roll_spline, wheel%kappa_spline)
     end function wheel_kappa_smooth
 
     !> Wheel profile curvature at the deepest point of rail line i (on its cone jseg(i)).

@@ -154,16 +154,23 @@ contains
   !> The wheel's principal curvatures at lateral position py on segment j of the profile
   !> points y with the point values k_roll (rolling direction, cos(gamma)/r, thesis eq.
   !> 4.75) and kappa (smoothed profile curvature, lateral), and their derivatives with
-  !> respect to py. Both are cubic Hermite
-  !> interpolations of their point values with central-difference slopes: C1 in py, so that
-  !> the Hertz constant's gradient term of the potential force is continuous where a
-  !> strip's deepest point crosses a profile point (with linear interpolation its slope
-  !> jumped at every point, 0.2 mm apart, and the integrator's Newton iteration failed
-  !> there). Clamped (derivatives zero) beyond the profile's ends.
-  pure subroutine wheel_point_curvatures(py, j, y, k_roll_pts, kappa, k_roll, k_lat, dk_roll, dk_lat)
+  !> respect to py. With the splines' second derivatives k_roll_m, kappa_m (the distributed
+  !> force) both are natural cubic splines through their point values (C2 in py): the Hertz
+  !> constant's gradient term of the strip forces holds these derivatives, so it is
+  !> continuous where a strip's deepest point crosses a profile point (with linear
+  !> interpolation its slope jumped at every point, 0.2 mm apart, and the integrator's Newton
+  !> iteration failed there) and, C1, does not kink the force there. Without them (the
+  !> potential force, whose deepest points on the cones kink anyway) the cubic Hermite with
+  !> central-difference slopes (C1; with the splines that level's quasi-static balance on
+  !> straight track depended on its start by 2e-10 m in test_quasi_static_history, a balance
+  !> near one of its kinks). Clamped (derivatives zero) beyond the profile's ends.
+  pure subroutine wheel_point_curvatures(py, j, y, k_roll_pts, kappa, k_roll, k_lat, dk_roll, dk_lat, k_roll_m, kappa_m)
     real(wp), intent(in) :: py
     integer, intent(in) :: j
     real(wp), intent(in) :: y(:), k_roll_pts(:), kappa(:)
+    !> second derivatives along y of the natural cubic splines through k_roll_pts and kappa
+    !> (absent: the cubic Hermite)
+    real(wp), intent(in), optional :: k_roll_m(:), kappa_m(:)
     real(wp), intent(out) :: k_roll, k_lat, dk_roll, dk_lat
     real(wp) :: h, x
     integer :: n
@@ -176,8 +183,13 @@ contains
       dk_roll = 0; dk_lat = 0
       return
     end if
-    call hermite(k_roll_pts, k_roll, dk_roll)
-    call hermite(kappa, k_lat, dk_lat)
+    if (present(k_roll_m) .and. present(kappa_m)) then
+      call spline(k_roll_pts, k_roll_m, k_roll, dk_roll)
+      call spline(kappa, kappa_m, k_lat, dk_lat)
+    else
+      call hermite(k_roll_pts, k_roll, dk_roll)
+      call hermite(kappa, k_lat, dk_lat)
+    end if
   contains
     !> value and derivative of the cubic Hermite of point values v on segment j at x
     pure subroutine hermite(v, f, df)
@@ -191,6 +203,16 @@ contains
       df = ((6 * x2 - 6 * x) * v(j) + (3 * x2 - 4 * x + 1) * h * m0 + (-6 * x2 + 6 * x) * v(j + 1) &
             + (3 * x2 - 2 * x) * h * m1) / h
     end subroutine hermite
+    !> value and derivative of the natural cubic spline of point values v (second
+    !> derivatives vm) on segment j at x
+    pure subroutine spline(v, vm, f, df)
+      real(wp), intent(in) :: v(:), vm(:)
+      real(wp), intent(out) :: f, df
+      real(wp) :: u
+      u = 1 - x
+      f = u * v(j) + x * v(j + 1) + h * h / 6 * ((u**3 - u) * vm(j) + (x**3 - x) * vm(j + 1))
+      df = (v(j + 1) - v(j)) / h + h / 6 * (-(3 * u * u - 1) * vm(j) + (3 * x * x - 1) * vm(j + 1))
+    end subroutine spline
   end subroutine wheel_point_curvatures
 
   !> Gradient of the lateral position p_y of a line's deepest point with respect to the
@@ -287,12 +309,12 @@ contains
   !>    G = -grad delta = ((-e_rho + k e_y), q x (-e_rho + k e_y)) / sqrt(1 + k^2)
   !>                      + D k k_y / (1 + k^2)^(3/2) grad q_y,
   !> grad q_y from deepest_point_py_gradient (the point's shift along the line included).
-  pure subroutine smooth_line_depth(p, d, j, y, r, m, q, js, depth, g, gpy)
+  pure subroutine smooth_line_depth(p, d, j, y, r, m, p4, q, js, depth, g, gpy)
     real(wp), intent(in) :: p(3)            !< deepest point on the cones, intermediate frame [m]
     real(wp), intent(in) :: d(3)            !< the line's direction, intermediate frame
     integer, intent(in) :: j                !< the cone of p (segment j, j + 1)
     real(wp), intent(in) :: y(:), r(:)      !< profile points: lateral position, radius [m]
-    real(wp), intent(in) :: m(:)            !< the wheel spline's d2r/dy2 at the points [1/m]
+    real(wp), intent(in) :: m(:), p4(:)     !< the wheel spline's d2r/dy2 [1/m], d4r/dy4 [1/m^3] at the points
     real(wp), intent(out) :: q(3)           !< the deepest point on the smooth wheel [m]
     integer, intent(out) :: js              !< its segment
     real(wp), intent(out) :: depth          !< normal depth into the smooth wheel [m]
@@ -301,7 +323,7 @@ contains
     !> Newton iterations on the line offset (to a step below 1e-11 m: the depth is then exact to
     !> ~1e-22 m, D being stationary there)
     integer, parameter :: max_iterations = 8
-    real(wp) :: s, ds, rh, k, ky, rho, sxz, a2, dd, root, h, t, u
+    real(wp) :: s, ds, rh, k, ky, rho, sxz, a2, dd, root, h, t, u, h2, h3, t2, u2
     integer :: it, n
     n = size(y)
     a2 = d(1)**2 + d(3)**2
@@ -310,13 +332,16 @@ contains
     do it = 1, max_iterations
       q = p + s * d
       js = hunt(q(2), js)
-      ! the spline at q_y (smooth_wheel_radius written out: the hot path of the distributed
+      ! the quintic spline at q_y (smooth_wheel_radius written out: the hot path of the distributed
       ! force, called per strip and iteration)
       h = y(js + 1) - y(js)
       t = min(max((q(2) - y(js)) / h, 0.0_wp), 1.0_wp)
       u = 1 - t
-      k = (r(js + 1) - r(js)) / h + h / 6 * (-(3 * u * u - 1) * m(js) + (3 * t * t - 1) * m(js + 1))
-      ky = u * m(js) + t * m(js + 1)
+      t2 = t * t; u2 = u * u; h2 = h * h; h3 = h2 * h
+      k = (r(js + 1) - r(js)) / h + h / 6 * (-(3 * u2 - 1) * m(js) + (3 * t2 - 1) * m(js + 1)) &
+          + h3 * (-(u2 * (u2 / 24 - 1.0_wp / 12) + 7.0_wp / 360) * p4(js) &
+                  + (t2 * (t2 / 24 - 1.0_wp / 12) + 7.0_wp / 360) * p4(js + 1))
+      ky = u * m(js) + t * m(js + 1) + h2 / 6 * ((u2 - 1) * u * p4(js) + (t2 - 1) * t * p4(js + 1))
       rho = sqrt(q(1)**2 + q(3)**2)
       sxz = q(1) * d(1) + q(3) * d(3)
       dd = ky * d(2)**2 - (a2 * rho**2 - sxz**2) / rho**3
@@ -326,7 +351,9 @@ contains
       if (abs(ds) < 1.0e-11_wp) exit
       s = s + ds
     end do
-    rh = u * r(js) + t * r(js + 1) + h * h / 6 * ((u**3 - u) * m(js) + (t**3 - t) * m(js + 1))
+    rh = u * r(js) + t * r(js + 1) + h2 / 6 * ((u2 - 1) * u * m(js) + (t2 - 1) * t * m(js + 1)) &
+         + h2 * h2 * (u * (u2 * (u2 / 120 - 1.0_wp / 36) + 7.0_wp / 360) * p4(js) &
+                      + t * (t2 * (t2 / 120 - 1.0_wp / 36) + 7.0_wp / 360) * p4(js + 1))
     root = sqrt(1 + k**2)
     depth = (rh - rho) / root
     g(1:3) = [-q(1) / rho, k, -q(3) / rho] / root
@@ -353,24 +380,37 @@ contains
   end subroutine smooth_line_depth
 
   !> The smooth wheel of smooth_line_depth at lateral position yq on segment j (clamped to
-  !> it): the natural cubic spline r_h through the profile points (second derivatives m,
-  !> rd_contact_surfaces), its slope r_h' and second derivative r_h'', all continuous along
-  !> the profile. (A cubic Hermite with the points' slopes is C1 only: its r_h'' jumped at
-  !> every profile point, and with it the depth gradient's curvature term d k k_y, so the
-  !> distributed force's lateral component jumped by 0.1-0.3 % on the flange wherever a
-  !> strip crossed a point: bench/contact_smoothness.)
-  pure subroutine smooth_wheel_radius(yq, j, y, r, m, r_h, k, ky)
+  !> it): the natural quintic spline r_h through the profile points (second and fourth
+  !> derivatives m, p4 at the points; rd_natural_splines has the formulas), its slope r_h'
+  !> and second derivative r_h''. C4 along the profile: the depth gradient holds r_h''
+  !> (through the deepest point's shift along its line), so the distributed force is C1 only
+  !> if r_h'' is; the natural cubic spline's r_h''' jumped at every profile point and the
+  !> flange force kinked wherever a strip's deepest point crossed one. (A cubic Hermite with
+  !> the points' slopes, C1, made the force jump there: bench/contact_smoothness.)
+  pure subroutine smooth_wheel_radius(yq, j, y, r, m, p4, r_h, k, ky)
     real(wp), intent(in) :: yq              !< lateral position on the wheel [m]
     integer, intent(in) :: j                !< the segment (points j, j + 1)
-    real(wp), intent(in) :: y(:), r(:), m(:)  !< profile points: lateral position, radius, spline d2r/dy2
+    real(wp), intent(in) :: y(:), r(:), m(:), p4(:)  !< profile points: y, radius, spline d2r/dy2, d4r/dy4
     real(wp), intent(out) :: r_h, k, ky     !< radius [m], dr/dy, d2r/dy2 [1/m]
     real(wp) :: h, t, u
     h = y(j + 1) - y(j)
     t = min(max((yq - y(j)) / h, 0.0_wp), 1.0_wp)
     u = 1 - t
-    r_h = u * r(j) + t * r(j + 1) + h * h / 6 * ((u**3 - u) * m(j) + (t**3 - t) * m(j + 1))
-    k = (r(j + 1) - r(j)) / h + h / 6 * (-(3 * u * u - 1) * m(j) + (3 * t * t - 1) * m(j + 1))
-    ky = u * m(j) + t * m(j + 1)
+    r_h = u * r(j) + t * r(j + 1) + h * h / 6 * ((u**3 - u) * m(j) + (t**3 - t) * m(j + 1)) &
+          + h**4 * (quintic_e(u) * p4(j) + quintic_e(t) * p4(j + 1))
+    k = (r(j + 1) - r(j)) / h + h / 6 * (-(3 * u * u - 1) * m(j) + (3 * t * t - 1) * m(j + 1)) &
+        + h**3 * (-quintic_de(u) * p4(j) + quintic_de(t) * p4(j + 1))
+    ky = u * m(j) + t * m(j + 1) + h * h / 6 * ((u**3 - u) * p4(j) + (t**3 - t) * p4(j + 1))
+  contains
+    !> e(s) = s^5/120 - s^3/36 + 7 s/360 and its derivative (rd_natural_splines)
+    pure real(wp) function quintic_e(x)
+      real(wp), intent(in) :: x
+      quintic_e = x * (x * x * (x * x / 120 - 1.0_wp / 36) + 7.0_wp / 360)
+    end function quintic_e
+    pure real(wp) function quintic_de(x)
+      real(wp), intent(in) :: x
+      quintic_de = x * x * (x * x / 24 - 1.0_wp / 12) + 7.0_wp / 360
+    end function quintic_de
   end subroutine smooth_wheel_radius
 
 end module rd_strip_potential

@@ -19,12 +19,14 @@
 !> (B/A)^0.4 for narrow patches (4.0 at B = 1000 A).
 !>
 !> phi is tabulated once (elliptic integrals through rd_hertz) over x in [-x_max, x_max]
-!> and read by cubic Hermite interpolation, C1 with its derivative, so that the force,
-!> which contains delta^2 dc/d(pose), stays continuous. The strips sample the integral
+!> and read by the natural cubic spline through the nodes, C2, so that the force, which
+!> contains delta^2 dc/d(pose), is C1 (the cubic Hermite with central-difference slopes used
+!> before is C1 only: its derivative, and with it the force, kinked at every node). The strips sample the integral
 !> interval by interval (interval_energy), resolving the contact edge between two strips.
 module rd_hertz_strip
   use rd_kinds, only: wp
   use rd_hertz, only: hertz_params_t, hertz_patch_t, hertz_from_penetration, HERTZ_METHOD_ELLIPTIC
+  use rd_natural_splines, only: natural_spline
   implicit none
   private
   public :: fill_strip_stiffness_table, strip_stiffness, interval_energy
@@ -37,6 +39,7 @@ module rd_hertz_strip
   integer, parameter :: nodes = 2049
   real(wp), parameter :: x_max = 16.0_wp          ! |ln(B/A)| <= 16 (ratios up to 9e6)
   real(wp), save :: table(nodes) = 0              ! phi at x_j = -x_max + (j - 1) h
+  real(wp), save :: table_m(nodes) = 0            ! its spline's d2 phi / dj2 (per node step)
   logical, save :: table_filled = .false.
 
 contains
@@ -47,6 +50,7 @@ contains
     type(hertz_params_t) :: unit
     type(hertz_patch_t) :: hp
     real(wp) :: x, b
+    real(wp), allocatable :: m(:)
     integer :: j
     if (table_filled) return
     unit = hertz_params_t(e_star=1.0_wp, curvature_min=1.0e-300_wp, method=HERTZ_METHOD_ELLIPTIC)
@@ -58,6 +62,8 @@ contains
       call hertz_from_penetration(unit, [2.0_wp, 2 * b, 0.0_wp, 0.0_wp], 1.0_wp, hp)
       table(j) = 0.375_wp * hp%k_hertz * sqrt(b)
     end do
+    call natural_spline([(real(j, wp), j = 1, nodes)], table, m)
+    table_m = m
     table_filled = .true.
   end subroutine fill_strip_stiffness_table
 
@@ -68,7 +74,7 @@ contains
     real(wp), intent(in) :: a, b
     real(wp), intent(out) :: phi, dphi_da, dphi_db
     real(wp), parameter :: h = 2 * x_max / (nodes - 1)
-    real(wp) :: ac, bc, dac, dbc, x, t, d0, d1, dphi_dx
+    real(wp) :: ac, bc, dac, dbc, x, t, u, dphi_dx
     logical :: clamped
     integer :: j
     call floor_curvature(a, ac, dac)
@@ -78,21 +84,10 @@ contains
     x = min(max(x, -x_max), x_max)
     j = min(int((x + x_max) / h) + 1, nodes - 1)
     t = (x + x_max) / h - (j - 1)
-    ! central-difference node slopes (one-sided at the ends), per unit t
-    if (j == 1) then
-      d0 = table(2) - table(1)
-    else
-      d0 = 0.5_wp * (table(j + 1) - table(j - 1))
-    end if
-    if (j + 1 == nodes) then
-      d1 = table(nodes) - table(nodes - 1)
-    else
-      d1 = 0.5_wp * (table(j + 2) - table(j))
-    end if
-    phi = ((2 * t - 3) * t * t + 1) * table(j) + (((t - 2) * t + 1) * t) * d0 &
-          + (t * t * (3 - 2 * t)) * table(j + 1) + (t * t * (t - 1)) * d1
-    dphi_dx = ((6 * t - 6) * t * table(j) + ((3 * t - 4) * t + 1) * d0 + (6 - 6 * t) * t * table(j + 1) &
-               + (3 * t - 2) * t * d1) / h
+    ! the natural cubic spline in the node index (unit steps)
+    u = 1 - t
+    phi = u * table(j) + t * table(j + 1) + ((u * u - 1) * u * table_m(j) + (t * t - 1) * t * table_m(j + 1)) / 6
+    dphi_dx = (table(j + 1) - table(j) + (-(3 * u * u - 1) * table_m(j) + (3 * t * t - 1) * table_m(j + 1)) / 6) / h
     if (clamped) dphi_dx = 0          ! phi is held constant beyond the table
     dphi_da = -dphi_dx * dac / ac
     dphi_db = dphi_dx * dbc / bc

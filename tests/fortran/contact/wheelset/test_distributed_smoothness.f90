@@ -87,21 +87,33 @@ program test_distributed_smoothness
 
 contains
 
-  !> the lateral force along the line from pose a to pose b (y, z, roll) at yaw psi
+  !> the lateral force along the line from pose a to pose b (y, z, roll) at yaw psi: no jump
+  !> (d2 / d1 small) and C1 (d2 / d1 halves with the step)
   subroutine check_flange_path(what, a, b, psi)
     character(len=*), intent(in) :: what
     real(wp), intent(in) :: a(3), b(3), psi
-    real(wp) :: yf(n), q(3)
+    real(wp) :: r1, r2
+    r1 = flange_ratio(what, a, b, psi, n)
+    r2 = flange_ratio(what, a, b, psi, 2 * n - 1)
+    call check_within(what // ': lateral force: max |d2| / max |d1|', r1, 0.05_wp)
+    call check_within(what // ': lateral force: the ratio at half the step / at the step', r2 / r1, 0.6_wp)
+  end subroutine check_flange_path
+
+  !> max |d2| / max |d1| of the lateral force over m samples of the line
+  real(wp) function flange_ratio(what, a, b, psi, m) result(ratio)
+    character(len=*), intent(in) :: what
+    real(wp), intent(in) :: a(3), b(3), psi
+    integer, intent(in) :: m
+    real(wp) :: yf(m), q(3)
     type(wheel_contact_t) :: rp
     integer :: i
-    do i = 1, n
-      q = a + real(i - 1, wp) / (n - 1) * (b - a)
+    do i = 1, m
+      q = a + real(i - 1, wp) / (m - 1) * (b - a)
       call wheel_contact(geo, SIDE_LEFT, q(1), q(2), q(3), psi, rp)
       yf(i) = rp%distributed%force(2)
     end do
-    call check_within(what // ': lateral force: max |d2| / max |d1|', d2_over_d1(what // ': lateral force', yf), &
-                      0.05_wp)
-  end subroutine check_flange_path
+    ratio = d2_over_d1(what // ' (' // trim(int_text(m)) // ' samples): lateral force', yf)
+  end function flange_ratio
 
   !> Where the flange root's contact region merges with the tread's (the line between two
   !> poses a, b (y, z, roll) of the wheel-load path at yaw psi): the patches' load-weighted
