@@ -57,7 +57,7 @@ program bench_contact_smoothness
   !> A new level is one line here (or --pose-level / --creep-level on the command line).
   character(len=*), parameter :: pose_levels(*) = [character(len=160) :: &
     'strips 0.4 mm, FASTSIM 10x10 | rail_spacing=4e-4 creep_law=fastsim fastsim_grid=10', &
-    'strips 0.2 mm, FASTSIM 10x10 (the defaults) | rail_spacing=2e-4 creep_law=fastsim fastsim_grid=10', &
+    'strips 0.2 mm, FASTSIM 10x10 sharp clip | rail_spacing=2e-4 creep_law=fastsim fastsim_grid=10', &
     'strips 0.1 mm, FASTSIM 10x10 | rail_spacing=1e-4 creep_law=fastsim fastsim_grid=10', &
     'strips 0.05 mm, FASTSIM 10x10 | rail_spacing=5e-5 creep_law=fastsim fastsim_grid=10', &
     'strips 0.2 mm, FASTSIM 5x5 | creep_law=fastsim fastsim_grid=5', &
@@ -67,7 +67,8 @@ program bench_contact_smoothness
     'strips 0.2 mm, FASTSIM 10x10, centroid normal force | creep_law=fastsim fastsim_grid=10 strip_normal_force=centroid', &
     'strips 0.2 mm, FASTSIM 10x10, potential normal force | creep_law=fastsim fastsim_grid=10 strip_normal_force=potential', &
     'tables of strips 0.2 mm, FASTSIM 10x10 | contact_geometry=table creep_law=fastsim fastsim_grid=10', &
-    'strips 0.2 mm, FASTSIM 10x10 smooth clip 0.2 (acceptance deck) | creep_law=fastsim fastsim_grid=10 ' // &
+    'strips 0.2 mm, FASTSIM 10x10 smooth clip 0.2 (deck defaults, acceptance deck) | creep_law=fastsim ' // &
+    'fastsim_grid=10 ' // &
     'fastsim_saturation_width=0.2']
   character(len=*), parameter :: creep_levels(*) = [character(len=160) :: &
     'linear | creep_law=linear', &

@@ -122,7 +122,7 @@ VALUE = {
     "flange_back": "-0.07", "rail_precant": "0.0", "rail_precant_right": "0.0",
     "contact_distance": "1.5", "conicity": "0.05", "rail_crown_radius": "0.3",
     "flange_clearance": "0.0", "flange_stiffness": "0.0", "creep_saturation": "'none'",
-    "fastsim_grid": "10", "fastsim_bound": "'parabolic'", "fastsim_saturation_width": "0.0",
+    "fastsim_grid": "10", "fastsim_bound": "'parabolic'", "fastsim_saturation_width": "0.2",
     "polach_ka": "1.0", "polach_ks": "1.0", "polach_friction_ratio": "1.0",
     "polach_friction_decay": "0.0", "table_shift_step": "1e-4", "rtol": "1e-6", "atol": "1e-8",
     "max_step": "0.0", "min_step": "0.0", "initial_step": "0.0", "max_order": "2",

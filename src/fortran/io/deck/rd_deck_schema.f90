@@ -484,7 +484,7 @@ contains
              allowed='parabolic|elliptic'), 'creep_law', 'fastsim'), &
       only_with(preal('fastsim_saturation_width', '-', 'FASTSIM: width w of the smooth clip of each ' // &
               'element''s traction onto the bound (0 = Kalker''s sharp clip; docs/theory_contact_mechanics.md)', &
-              default=zero, min=zero, max=0.5_wp), 'creep_law', 'fastsim'), &
+              default=0.2_wp, min=zero, max=0.5_wp), 'creep_law', 'fastsim'), &
       only_with(preal('polach_ka', '-', 'Polach reduction in the adhesion area', default=1.0_wp, min=zero, &
               max=1.0_wp, min_open=.true.), 'creep_law', 'polach'), &
       only_with(preal('polach_ks', '-', 'Polach reduction in the slip area', default=1.0_wp, min=zero, &
