@@ -29,18 +29,10 @@
 module rd_natural_splines
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_INTERNAL
+  use rd_lapack_interfaces, only: dgbsv, band_put
   implicit none
   private
   public :: natural_spline, natural_quintic_spline
-
-  interface
-    subroutine dgbsv(n, kl, ku, nrhs, ab, ldab, ipiv, b, ldb, info)
-      import :: wp
-      integer, intent(in) :: n, kl, ku, nrhs, ldab, ldb
-      real(wp), intent(inout) :: ab(ldab, *), b(ldb, *)
-      integer, intent(out) :: ipiv(*), info
-    end subroutine dgbsv
-  end interface
 
 contains
 
@@ -115,11 +107,10 @@ contains
     m = b(1::2)
     p = b(2::2)
   contains
-    !> A(row, col) = v in LAPACK's band storage
     subroutine put(row, col, v)
       integer, intent(in) :: row, col
       real(wp), intent(in) :: v
-      ab(kl + ku + 1 + row - col, col) = v
+      call band_put(ab, kl, ku, row, col, v)
     end subroutine put
   end subroutine natural_quintic_spline
 

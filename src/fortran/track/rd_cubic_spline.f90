@@ -11,18 +11,10 @@
 module rd_cubic_spline
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_INTERNAL
+  use rd_lapack_interfaces, only: dgbsv, band_put
   implicit none
   private
   public :: spline_not_a_knot, locate_interval
-
-  interface
-    subroutine dgbsv(n, kl, ku, nrhs, ab, ldab, ipiv, b, ldb, info)
-      import :: wp
-      integer, intent(in) :: n, kl, ku, nrhs, ldab, ldb
-      real(wp), intent(inout) :: ab(ldab, *), b(ldb, *)
-      integer, intent(out) :: ipiv(*), info
-    end subroutine dgbsv
-  end interface
 
 contains
 
@@ -51,16 +43,20 @@ contains
     allocate (ab(ldab, n), m(n, size(y, 2)), ipiv(n))
     ab = 0
     ! not-a-knot at t_2: h2 M1 - (h1 + h2) M2 + h1 M3 = 0
-    call put(1, 1, h(2)); call put(1, 2, -(h(1) + h(2))); call put(1, 3, h(1))
+    call band_put(ab, kl, ku, 1, 1, h(2))
+    call band_put(ab, kl, ku, 1, 2, -(h(1) + h(2)))
+    call band_put(ab, kl, ku, 1, 3, h(1))
     m(1, :) = 0
     do i = 2, n - 1
-      call put(i, i - 1, h(i - 1))
-      call put(i, i, 2 * (h(i - 1) + h(i)))
-      call put(i, i + 1, h(i))
+      call band_put(ab, kl, ku, i, i - 1, h(i - 1))
+      call band_put(ab, kl, ku, i, i, 2 * (h(i - 1) + h(i)))
+      call band_put(ab, kl, ku, i, i + 1, h(i))
       m(i, :) = 6 * ((y(i + 1, :) - y(i, :)) / h(i) - (y(i, :) - y(i - 1, :)) / h(i - 1))
     end do
     ! not-a-knot at t_{n-1}
-    call put(n, n - 2, h(n - 1)); call put(n, n - 1, -(h(n - 2) + h(n - 1))); call put(n, n, h(n - 2))
+    call band_put(ab, kl, ku, n, n - 2, h(n - 1))
+    call band_put(ab, kl, ku, n, n - 1, -(h(n - 2) + h(n - 1)))
+    call band_put(ab, kl, ku, n, n, h(n - 2))
     m(n, :) = 0
     call dgbsv(n, kl, ku, size(y, 2), ab, ldab, ipiv, m, n, info)
     if (info /= 0) then
@@ -75,14 +71,6 @@ contains
         coef(3, i, j) = (m(i + 1, j) - m(i, j)) / (6 * h(i))
       end do
     end do
-
-  contains
-
-    subroutine put(row, col, value)
-      integer, intent(in) :: row, col
-      real(wp), intent(in) :: value
-      ab(kl + ku + 1 + row - col, col) = value
-    end subroutine put
   end subroutine spline_not_a_knot
 
   !> Largest i in 1..n-1 with knots(i) <= x (clamped), by bisection.
