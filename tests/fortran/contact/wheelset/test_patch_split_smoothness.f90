@@ -15,6 +15,9 @@
 !> whose energy resolves the contact edge between strips (a strip energy delta_+^2 kinked at
 !> each onset: 31 and 82; eased over 1 um: 7 and 15); the share^(2/3)-penetration patches with
 !> a linear ramp gave 1362 and 1901.
+!> And along bench/contact_smoothness's wheel-load path (the acceptance deck's model, yaw 15
+!> mrad, 6.170-6.186 mm, the flange root's run starting to split at 6.1759 mm, where the bench
+!> reports a spin-moment kink at its 2 um sampling): C1 by halving the step (loaded_path_split).
 program test_patch_split_smoothness
   use rd_kinds, only: wp
   use rd_error, only: error_t
@@ -40,6 +43,7 @@ program test_patch_split_smoothness
 
   call sweep('distributed')
   call sweep('centroid')
+  call loaded_path_split()
   call test_summary('test_patch_split_smoothness')
 
 contains
@@ -94,5 +98,79 @@ contains
     end do
   end subroutine sweep
 
+
+  !> The acceptance deck's model (distributed force, FASTSIM 10 x 10 with the smooth clip,
+  !> 10 m/s) along the line between two poses (y, z, roll) of bench/contact_smoothness's
+  !> wheel-load path at yaw 15 mrad, 6.170-6.186 mm, where the flange root's run starts to
+  !> split (a third patch appears): the bench reports a kink of the spin moment there (0.87 % of
+  !> its range-scaled slope at its 2 um sampling). C1 (the split fraction's smoothstep): the
+  !> largest second difference of the summed spin moment and normal force near the onset falls
+  !> by about 4 when the step halves (a kink: by 2); checked: by more than 2.8.
+  subroutine loaded_path_split()
+    real(wp), parameter :: pa(3) = [6.170e-3_wp, 4.6016140344823447e-01_wp, 6.4687499945475049e-04_wp]
+    real(wp), parameter :: pb(3) = [6.186e-3_wp, 4.6017034166661663e-01_wp, 6.5883202159870637e-04_wp]
+    type(wheelset_contact_t) :: wsl
+    real(wp) :: d2max(2, 2)
+    integer :: k, onset1
+    spec = wheelset_contact_spec_t()
+    spec%body = 1
+    spec%wheel_profile = 's1002'
+    spec%rail_profile = '60e1'
+    spec%creep_law = 'fastsim'
+    spec%creep_options%grid_nx = 10; spec%creep_options%grid_ny = 10
+    spec%creep_options%saturation_width = 0.2_wp
+    call wsl%build([spec], 1, error)
+    if (allocated(error)) error stop error%message
+    call path_d2(wsl, pa, pb, 1600, d2max(:, 1), onset1)
+    call path_d2(wsl, pa, pb, 3200, d2max(:, 2), k)
+    call check(onset1 > 0, 'wheel-load path: a third patch appears inside the sweep')
+    do k = 1, 2
+      print '(a,i1,a,2es11.3,a,f6.2)', '      wheel-load path, output ', k, ': largest |d2| at 10 / 5 nm steps', &
+        d2max(k, :), ', ratio ', d2max(k, 1) / d2max(k, 2)
+      call check(d2max(k, 1) / d2max(k, 2) > 2.8_wp, 'wheel-load path split: ' // &
+                 trim(merge('spin moment ', 'normal force', k == 1)) // ' C1 (d2 falls by more than 2.8 at half the step)')
+    end do
+  end subroutine loaded_path_split
+
+  !> largest |d2| of the summed spin moment and normal force within 0.5 um of the onset of a
+  !> patch, along m steps of the line from pose pa to pb (y, z, roll) at yaw psi
+  subroutine path_d2(wsl, pa, pb, m, d2m, onset_at)
+      type(wheelset_contact_t), intent(inout) :: wsl
+      real(wp), intent(in) :: pa(3), pb(3)
+      integer, intent(in) :: m
+      real(wp), intent(out) :: d2m(2)
+      integer, intent(out) :: onset_at
+      real(wp) :: v(2, 0:m), q(3), d2, m3(3)
+      integer :: np(0:m), i, j, half
+      tp%a = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
+      tp%dr = [1.0_wp, 0.0_wp, 0.0_wp]
+      do i = 0, m
+        q = pa + real(i, wp) / m * (pb - pa)
+        call compute_body_kinematics(kin, tp, 10.0_wp, 0.0_wp, [0.0_wp, q(1), q(2), psi, q(3), 0.0_wp], &
+                                     [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 10.0_wp / spec%nominal_radius], .true.)
+        call wsl%evaluate(1, 0.0_wp, kin, f, m3, error)
+        if (allocated(error)) error stop error%message
+        associate (w => wsl%results(1)%wheel(1))
+          np(i) = w%n_patches
+          v(:, i) = [sum(w%patch(1:w%n_patches)%mz), sum(w%patch(1:w%n_patches)%normal_force)]
+        end associate
+      end do
+      onset_at = 0
+      do i = 1, m
+        if (np(i) > np(i - 1)) then
+          onset_at = i
+          exit
+        end if
+      end do
+      d2m = 0
+      if (onset_at == 0) return
+      half = nint(0.5e-6_wp / ((pb(1) - pa(1)) / m))
+      do i = max(1, onset_at - half), min(m - 1, onset_at + half)
+        do j = 1, 2
+          d2 = abs(v(j, i + 1) - 2 * v(j, i) + v(j, i - 1))
+          d2m(j) = max(d2m(j), d2)
+        end do
+      end do
+  end subroutine path_d2
 
 end program test_patch_split_smoothness
