@@ -38,7 +38,7 @@ program test_patch_split_smoothness
   type(error_t), allocatable :: error
   type(track_point_t) :: tp
   type(body_kinematics_t) :: kin
-  real(wp) :: f(3), m(3), creep(2, 0:n), d2(2, n - 1), y, worst(2), med(2)
+  real(wp) :: creep(2, 0:n), d2(2, n - 1), y, worst(2), med(2)
   integer :: patches(0:n), i, k, onset
 
   call sweep('distributed')
@@ -53,6 +53,7 @@ contains
   subroutine sweep(force)
     character(len=*), intent(in) :: force
     type(wheelset_contact_t) :: ws       ! a model per force
+    real(wp) :: sums(4)
     spec = wheelset_contact_spec_t()
     spec%body = 1
     spec%wheel_profile = 's1002'
@@ -62,26 +63,12 @@ contains
     spec%body = 1
     call ws%build([spec], 1, error)
     if (allocated(error)) error stop error%message
-    tp%a = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
-    tp%dr = [1.0_wp, 0.0_wp, 0.0_wp]
     do i = 0, n
       y = y0 + (y1 - y0) * i / n
-      call compute_body_kinematics(kin, tp, speed, 0.0_wp, [0.0_wp, y, z, psi, phi, 0.0_wp], &
-                                   [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, speed / spec%nominal_radius], .true.)
-      call ws%evaluate(1, 0.0_wp, kin, f, m, error)
-      if (allocated(error)) error stop error%message
-      associate (w => ws%results(1)%wheel(1))
-        patches(i) = w%n_patches
-        creep(:, i) = [sum(w%patch(1:w%n_patches)%fx), sum(w%patch(1:w%n_patches)%fy)]
-      end associate
+      call left_wheel_sums(ws, [y, z, phi], speed, patches(i), sums)
+      creep(:, i) = sums(1:2)
     end do
-    onset = 0
-    do i = 1, n
-      if (patches(i) > patches(i - 1)) then
-        onset = i
-        exit
-      end if
-    end do
+    onset = first_onset(patches)
     if (onset == 0 .or. onset < 10 .or. onset > n - 10) then
       print '(a)', 'FAIL the sweep does not cross the split (no third patch appears inside it)'
       error stop 1
@@ -140,28 +127,13 @@ contains
       integer, intent(in) :: m
       real(wp), intent(out) :: d2m(2)
       integer, intent(out) :: onset_at
-      real(wp) :: v(2, 0:m), q(3), d2, m3(3)
+      real(wp) :: v(2, 0:m), d2, sums(4)
       integer :: np(0:m), i, j, half
-      tp%a = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
-      tp%dr = [1.0_wp, 0.0_wp, 0.0_wp]
       do i = 0, m
-        q = pa + real(i, wp) / m * (pb - pa)
-        call compute_body_kinematics(kin, tp, 10.0_wp, 0.0_wp, [0.0_wp, q(1), q(2), psi, q(3), 0.0_wp], &
-                                     [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 10.0_wp / spec%nominal_radius], .true.)
-        call wsl%evaluate(1, 0.0_wp, kin, f, m3, error)
-        if (allocated(error)) error stop error%message
-        associate (w => wsl%results(1)%wheel(1))
-          np(i) = w%n_patches
-          v(:, i) = [sum(w%patch(1:w%n_patches)%mz), sum(w%patch(1:w%n_patches)%normal_force)]
-        end associate
+        call left_wheel_sums(wsl, pa + real(i, wp) / m * (pb - pa), 10.0_wp, np(i), sums)
+        v(:, i) = sums(3:4)
       end do
-      onset_at = 0
-      do i = 1, m
-        if (np(i) > np(i - 1)) then
-          onset_at = i
-          exit
-        end if
-      end do
+      onset_at = first_onset(np)
       d2m = 0
       if (onset_at == 0) return
       half = nint(0.5e-6_wp / ((pb(1) - pa(1)) / m))
@@ -172,5 +144,38 @@ contains
         end do
       end do
   end subroutine path_d2
+
+  !> The left wheel at pose (y, z, roll), yaw psi, rolling at `v`: its patch count and the
+  !> sums over its patches of Fx, Fy, the spin moment and the normal force.
+  subroutine left_wheel_sums(wsx, pose, v, np, sums)
+    type(wheelset_contact_t), intent(inout) :: wsx
+    real(wp), intent(in) :: pose(3), v
+    integer, intent(out) :: np
+    real(wp), intent(out) :: sums(4)
+    real(wp) :: ff(3), mm(3)
+    tp%a = reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
+    tp%dr = [1.0_wp, 0.0_wp, 0.0_wp]
+    call compute_body_kinematics(kin, tp, v, 0.0_wp, [0.0_wp, pose(1), pose(2), psi, pose(3), 0.0_wp], &
+                                 [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, v / spec%nominal_radius], .true.)
+    call wsx%evaluate(1, 0.0_wp, kin, ff, mm, error)
+    if (allocated(error)) error stop error%message
+    associate (w => wsx%results(1)%wheel(1))
+      np = w%n_patches
+      sums = [sum(w%patch(1:np)%fx), sum(w%patch(1:np)%fy), sum(w%patch(1:np)%mz), sum(w%patch(1:np)%normal_force)]
+    end associate
+  end subroutine left_wheel_sums
+
+  !> the first sample with more patches than the one before (0: none)
+  integer function first_onset(np) result(k)
+    integer, intent(in) :: np(0:)
+    integer :: i
+    k = 0
+    do i = 1, ubound(np, 1)
+      if (np(i) > np(i - 1)) then
+        k = i
+        return
+      end if
+    end do
+  end function first_onset
 
 end program test_patch_split_smoothness
