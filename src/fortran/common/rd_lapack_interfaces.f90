@@ -5,7 +5,7 @@ module rd_lapack_interfaces
   use rd_kinds, only: wp
   implicit none
   private
-  public :: dgbsv, band_put
+  public :: dgbsv, dgelsd, band_put
 
   interface
     !> Solves A X = B for a band matrix A (kl sub-, ku super-diagonals) by LU with partial
@@ -16,6 +16,16 @@ module rd_lapack_interfaces
       real(wp), intent(inout) :: ab(ldab, *), b(ldb, *)
       integer, intent(out) :: ipiv(*), info
     end subroutine dgbsv
+
+    !> Minimum-norm least-squares solution of A X = B (SVD, divide and conquer).
+    subroutine dgelsd(m, n, nrhs, a, lda, b, ldb, s, rcond, rank, work, lwork, iwork, info)
+      import :: wp
+      integer, intent(in) :: m, n, nrhs, lda, ldb, lwork
+      real(wp), intent(inout) :: a(lda, *), b(ldb, *)
+      real(wp), intent(out) :: s(*), work(*)
+      real(wp), intent(in) :: rcond
+      integer, intent(out) :: rank, iwork(*), info
+    end subroutine dgelsd
   end interface
 
 contains

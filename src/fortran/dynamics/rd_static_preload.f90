@@ -62,20 +62,10 @@ module rd_static_preload
   use rd_track_point, only: track_geometry_t
   use rd_level_straight_track, only: level_straight_track_t
   use rd_text, only: int_text, real_text
+  use rd_lapack_interfaces, only: dgelsd
   implicit none
   private
   public :: solve_static_preloads, solve_static_positions
-
-  interface
-    subroutine dgelsd(m, n, nrhs, a, lda, b, ldb, s, rcond, rank, work, lwork, iwork, info)
-      import :: wp
-      integer, intent(in) :: m, n, nrhs, lda, ldb, lwork
-      real(wp), intent(inout) :: a(lda, *), b(ldb, *)
-      real(wp), intent(out) :: s(*), work(*)
-      real(wp), intent(in) :: rcond
-      integer, intent(out) :: rank, iwork(*), info
-    end subroutine dgelsd
-  end interface
 
 contains
 

@@ -1117,7 +1117,7 @@ contains
     real(wp), intent(in) :: d(-2:2)
     logical, intent(in) :: bspline
     real(wp), intent(out) :: s, w(-2:2), t
-    real(wp) :: q(0:3), a, b, c, sq, tt, h00, h10, h01, h11
+    real(wp) :: q(0:3), a, b, c, sq, tt, m0, m1, h00, h10, h01, h11
     integer :: j0
     w = 0; w(0) = 1; s = d(0); t = 0
     if (any(abs(d) >= huge(1.0_wp))) return       ! (a peak's depths come negated)
@@ -1134,9 +1134,9 @@ contains
     if (bspline) then
       a = 0.5_wp * (-q(0) + 3 * q(1) - 3 * q(2) + q(3)); b = q(0) - 2 * q(1) + q(2); c = 0.5_wp * (q(2) - q(0))
     else
-      ! Hermite from q(1) to q(2) with the slopes h = (q(2) - q(0)) / 2, g = (q(3) - q(1)) / 2
-      h00 = 0.5_wp * (q(2) - q(0)); h01 = 0.5_wp * (q(3) - q(1))
-      a = 3 * (2 * (q(1) - q(2)) + h00 + h01); b = 2 * (3 * (q(2) - q(1)) - 2 * h00 - h01); c = h00
+      ! Hermite from q(1) to q(2) with the slopes m0 = (q(2) - q(0)) / 2, m1 = (q(3) - q(1)) / 2
+      m0 = 0.5_wp * (q(2) - q(0)); m1 = 0.5_wp * (q(3) - q(1))
+      a = 3 * (2 * (q(1) - q(2)) + m0 + m1); b = 2 * (3 * (q(2) - q(1)) - 2 * m0 - m1); c = m0
     end if
     ! the minimum: the root with the second derivative 2 a tt + b = sqrt(disc) > 0
     tt = -1
