@@ -14,8 +14,10 @@ and the classifier's verdict checked against what each run must give:
 
 And the classifier on results it did not write: a completed run whose results hold a NaN, a
 solver failure (exit 2) and an exit 3 without a documented reason are FAILUREs; a wheel without
-contact is "contact loss" (with the run's largest Y/Q) where no load asks for it, completed in
-the lift-off scene; a lift-off found by the static equilibrium solve before t = 0 (exit 3) is a
+contact is "contact loss" (with the run's largest Y/Q) where no load asks for it and the other
+wheel's Y/Q is far from the closed-form tipping limit y_c / r of its contact
+(bench/extremes/tipping.py), completed where it is at 0.85-1.0 of it (the wheelset tipped over
+its flange contact) and in the lift-off scene; a lift-off found by the static equilibrium solve before t = 0 (exit 3) is a
 FAILURE, not the scene's physics stop. Not timed: no CPU-second figure is asserted.
 """
 import importlib.util
@@ -108,16 +110,48 @@ def test_classifier_on_hand_made_runs(bench, tmp_path):
     row = bench.classify(bad, scene)
     assert row.outcome == "FAILURE" and "non-finite value at t = 0.6 s" in row.reason, row.reason
 
-    lost = _run_folder(tmp_path / "lost", 0)
-    yq = np.zeros((11, 2))
-    yq[3, 0] = 1.25
-    write_layout_file(lost / "results.h5", t,
-                      {**series, "wheelsets/w1/summary": (yq, "1 N", "derailment_quotient guiding_force_sum", "")},
-                      solver=solver, meta_attrs={**meta, "notes": "wheelset w1 left wheel without contact in 10.0 % "
-                                                                  "of 11 output samples (largest sampled Q 90.0 kN)"})
+    # the left wheel of w1 off its rail at t = 0.3 s with the right one on its flange face
+    # (contact point 0.711 m from the centre, 0.473 m below it: tipping limit Y/Q = 1.503) at
+    # Y/Q 0.2 (a lift the tipping does not explain) and at 1.45 (0.965 of the limit: tipped)
+    def lost_run(name, right_yq):
+        folder = _run_folder(tmp_path / name, 0)
+        yq = np.zeros((11, 2))
+        yq[3, 0] = right_yq
+        wheel_comp = "n_patches force_longitudinal force_lateral_Y force_vertical_Q Y_over_Q max_penetration"
+        patch_comp = ("kind penetration normal_force xi eta spin creep_force_x creep_force_y spin_moment s_wheel "
+                      "u_rail wheel_point_x wheel_point_y wheel_point_z rail_point_x rail_point_y rail_point_z "
+                      "contact_angle rolling_radius semi_axis_a semi_axis_b hertz_warning reference_speed")
+        wheels = {}
+        for side, sign in (("left", 1.0), ("right", -1.0)):
+            w = np.tile([1.0, 0.0, 0.0, 55.0e3, 0.0, 1.0e-4], (11, 1))
+            pa = np.zeros((11, 23))
+            pa[:, 0], pa[:, 2], pa[:, 12], pa[:, 13] = 1.0, 55.0e3, sign * 0.75, -0.46
+            if side == "left":
+                w[3] = 0.0
+                pa[3] = 0.0
+            else:
+                w[3] = [1.0, 0.0, right_yq * 100.0e3, 100.0e3, right_yq, 2.0e-4]
+                pa[3, 2], pa[3, 12], pa[3, 13] = 100.0e3, -0.711, -0.473
+            wheels[f"wheelsets/w1/{side}/wheel"] = (w, "1 N N N 1 m", wheel_comp, "")
+            wheels[f"wheelsets/w1/{side}/patch1"] = (pa, "", patch_comp, "")
+            for j in (2, 3, 4):
+                wheels[f"wheelsets/w1/{side}/patch{j}"] = (np.zeros((11, 23)), "", patch_comp, "")
+        write_layout_file(folder / "results.h5", t,
+                          {**series, **wheels,
+                           "wheelsets/w1/summary": (yq, "1 N", "derailment_quotient guiding_force_sum", "")},
+                          solver=solver, meta_attrs={**meta, "notes": "wheelset w1 left wheel without contact in "
+                                                                      "9.1 % of 11 output samples"})
+        return folder
+
+    lost = lost_run("lost", 0.2)
     row = bench.classify(lost, scene)
     assert (row.outcome, row.expected) == ("contact loss", False)
-    assert row.reason.startswith("largest Y/Q 1.25; wheelset w1 left wheel without contact"), row.reason
+    assert row.reason.startswith("largest Y/Q 0.20; 1 of 1 wheel-samples off the rail not at the tipping limit; "
+                                 "wheelset w1 left wheel without contact"), row.reason
+    tipped = bench.classify(lost_run("tipped", 1.45), scene)
+    assert (tipped.outcome, tipped.expected) == ("completed", True)
+    assert "tipping over the flange contact in 1 wheel-samples, the other wheel at 0.96-0.96" in tipped.reason, \
+        tipped.reason
     lift = bench.Scene("lift_off", "lift", "straight", 2.0, contact_loss_expected=True, expect="lift-off")
     assert bench.classify(lost, lift).outcome == "completed"
     assert not bench.classify(lost, lift).expected   # completed where a lift-off stop was due
