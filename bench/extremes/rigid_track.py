@@ -59,14 +59,14 @@ def case_name(case) -> str:
     return f"{VEHICLES[veh][0]}, {normal.replace('_', '-')}{d}, {'flexible' if flexible else 'rigid'} track"
 
 
-def deck_text(case) -> str:
+def deck_text(case, t_end: float = 3.0) -> str:
     veh, normal, damping, flexible = case
     _, vehicle, speed = VEHICLES[veh]
     over = f"contact_geometry = 'table', creep_law = 'fastsim', fastsim_saturation_width = 0.2, normal_contact = '{normal}'"
     if damping is not None:
         over += f", contact_damping = {damping:.1f}"
     lines = [f"&include file = {str(vehicle)!r} /",
-             f"&simulation title = 'rigid_track {case_name(case)}', t_end = 3.0, speed = {speed},",
+             f"&simulation title = 'rigid_track {case_name(case)}', t_end = {t_end}, speed = {speed},",
              "      start_sigma = 20.0, equilibrium = 'preload' /",
              "&track gauge = 1.435, rail_inclination = 0.025 /",
              "&segment type = 'straight', length = 1000.0 /", PULSE]
@@ -97,9 +97,9 @@ def measure(out: Path) -> dict:
     return m
 
 
-def run_case(exe: Path, work: Path, i: int, case) -> dict:
+def run_case(exe: Path, work: Path, i: int, case, t_end: float = 3.0) -> dict:
     deck = work / f"case{i:02d}.nml"
-    deck.write_text(deck_text(case))
+    deck.write_text(deck_text(case, t_end))
     out = work / f"case{i:02d}.h5"
     proc = subprocess.Popen([str(exe), "run", str(deck), "-o", str(out), "--quiet"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)

@@ -13,6 +13,11 @@ unnoticed once when raildyn.validation renamed a helper). Nothing is timed.
   `report` on the same results file.
 - bench/jacobian_age/run.py: `measure_deck` on a short knife-edge run at two ages, and `render`.
 - bench/compare_builds.py --scenes-only: a build against itself on a short deck.
+- bench/extremes/rigid_track.py: `run_case` on the Manchester vehicle past its critical speed on
+  rigid track, shortened to 0.7 s (the first lifts at 0.46 and 0.54 s): some samples with a wheel
+  off its rail, every one of them at a flange hit at 0.85-1.0 of the tipping limit (the
+  closed form of bench/extremes/tipping.py), and the same on flexible track without any; `render`
+  names both cases.
 - bench/solver_tolerance/run.py: its `measure` on the tables deck shortened to 0.3 s, at the
   deck's tolerances against the tight run: the sampled maxima equal those read from the file
   by raildyn.Results, the tight run compared with itself differs by 0 and the deck's run does
@@ -255,3 +260,20 @@ def test_compare_builds_scenes_only(build_dir):
     row = [line for line in res.stdout.splitlines() if line.startswith("| tgv_wheelset.nml")]
     assert len(row) == 1 and "identical" in row[0], res.stdout
     assert "`RAILDYN_BENCH_PROBE=1`" in res.stdout
+
+
+def test_rigid_track_study_measures_and_renders(build_dir, tmp_path):
+    """bench/extremes/rigid_track.py: the rigid and the flexible quasi-static Manchester cases,
+    0.7 s each."""
+    bench = _load("bench/extremes/rigid_track.py", "bench_rigid_track")
+    exe = build_dir / "bin" / "raildyn"
+    rigid, flexible = (bench.run_case(exe, tmp_path, i, case, t_end=0.7)
+                       for i, case in enumerate([("manchester", "quasi_static", None, False),
+                                                 ("manchester", "quasi_static", None, True)]))
+    assert rigid["exit"] == flexible["exit"] == 0, (rigid, flexible)
+    assert rigid["lost"] >= 2 and rigid["at_hit"] == rigid["lost"], rigid
+    assert 0.85 <= rigid["ratio_min"] <= rigid["ratio_max"] <= 1.0, rigid
+    assert flexible["lost"] == 0 and flexible["lost_share"] == 0.0, flexible
+    text = bench.render([rigid, flexible], {"when": "in a test", "rev": "test"})
+    assert "| Manchester V1, quasi-static, rigid track | 0 |" in text
+    assert "| Manchester V1, quasi-static, flexible track | 0 |" in text
