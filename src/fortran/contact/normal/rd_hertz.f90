@@ -26,8 +26,8 @@ module rd_hertz
 
   !> Warning bits of `hertz_patch_t%warning` (0 = clean Hertz case). Callers write the
   !> integer to their output so a conformal or degenerate patch is visible afterwards.
-  integer, parameter, public :: HERTZ_WARN_CLAMPED_ROLLING = 1  !< A_x <= A_min: clamped (conformal / concave along x)
-  integer, parameter, public :: HERTZ_WARN_CLAMPED_LATERAL = 2  !< A_y <= A_min: clamped (conformal / concave along y)
+  integer, parameter, public :: HERTZ_WARN_CLAMPED_ROLLING = 1  !< A_x < A_min: floored (conformal / concave along x)
+  integer, parameter, public :: HERTZ_WARN_CLAMPED_LATERAL = 2  !< A_y < A_min: floored (conformal / concave along y)
   integer, parameter, public :: HERTZ_WARN_ELONGATED = 4        !< a/b outside [0.1, 10] (beyond Kalker's table)
   integer, parameter, public :: HERTZ_WARN_BAD_INPUT = 8        !< NaN/Inf curvature or load: patch set to zero
 
@@ -228,6 +228,20 @@ contains
 
   ! ---------------------------------------------------------------------------------
 
+  !> A relative curvature a floored at c, C1: c up to c/2, a from 3c/2 on, and between them
+  !> the quadratic c + (a - c/2)^2 / (2c) that meets both with their value and slope. Every
+  !> curvature above 3c/2 (equivalent radius below R_max / 1.5) is taken as it is.
+  pure real(wp) function curvature_floor(a, c) result(f)
+    real(wp), intent(in) :: a, c
+    if (a >= 1.5_wp * c) then
+      f = a
+    else if (a <= 0.5_wp * c) then
+      f = c
+    else
+      f = c + (a - 0.5_wp * c)**2 / (2.0_wp * c)
+    end if
+  end function curvature_floor
+
   !> Everything that depends on the curvatures only: A, B (thesis eq. 3.29 with the
   !> relative curvatures; A along x, B along y), theta (eq. 3.28), e, m, n and k_h.
   pure subroutine hertz_shape(params, curvatures, patch, major_is_x)
@@ -243,16 +257,14 @@ contains
     ! the relative curvature must pair the two bodies in the SAME direction).
     ax = 0.5_wp * (curvatures(1) + curvatures(3))
     ay = 0.5_wp * (curvatures(2) + curvatures(4))
-    ! Conformal / concave fallback: a relative curvature at or below A_min (equivalent
-    ! radius above R_max) is clamped to A_min so a and b stay finite; flagged.
-    if (ax < params%curvature_min) then
-      ax = params%curvature_min
-      patch%warning = ior(patch%warning, HERTZ_WARN_CLAMPED_ROLLING)
-    end if
-    if (ay < params%curvature_min) then
-      ay = params%curvature_min
-      patch%warning = ior(patch%warning, HERTZ_WARN_CLAMPED_LATERAL)
-    end if
+    ! Conformal / concave fallback: a relative curvature below A_min (equivalent radius above
+    ! R_max) is floored at A_min so a and b stay finite; flagged. The floor is C1
+    ! (curvature_floor): with a hard max(A, A_min) the ellipse, and the creep forces it sets,
+    ! kinked where a conformal patch's curvature crossed A_min.
+    if (ax < params%curvature_min) patch%warning = ior(patch%warning, HERTZ_WARN_CLAMPED_ROLLING)
+    if (ay < params%curvature_min) patch%warning = ior(patch%warning, HERTZ_WARN_CLAMPED_LATERAL)
+    ax = curvature_floor(ax, params%curvature_min)
+    ay = curvature_floor(ay, params%curvature_min)
     patch%sum_ab = ax + ay
     small = min(ax, ay)
     big = max(ax, ay)

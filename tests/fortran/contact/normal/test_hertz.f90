@@ -149,10 +149,65 @@ program test_hertz
   call check_close(params%shear_modulus, 80.0e9_wp, 1.0e-12_wp, 'G given: G')
 
   call check_elliptic_table()
+  call check_conformal_floor_c1()
 
   call test_summary('test_hertz')
 
 contains
+
+  !> The conformal floor is C1 (rd_hertz curvature_floor): the lateral semi-axis b at a fixed
+  !> load along the relative lateral curvature B through the floor's ends B = A_min / 2,
+  !> 3 A_min / 2 and through A_min: the second difference of b falls by ~4 when the step
+  !> halves (C1: O(h^2); at a kink of b, O(h): ~2, what the hard max(B, A_min) gave at A_min);
+  !> below A_min / 2 b is that of A_min and above 3 A_min / 2 that of B itself, and the clamp
+  !> bit is set below A_min only.
+  subroutine check_conformal_floor_c1()
+    type(hertz_params_t) :: p, p_free
+    type(hertz_patch_t) :: q, q0
+    type(error_t), allocatable :: err
+    real(wp) :: cmin, x, h, d2(2)
+    integer :: k, m
+    call build_hertz(p, err)
+    if (allocated(err)) call fail_now(err%message)
+    cmin = p%curvature_min
+    do k = 1, 3
+      x = 0.5_wp * k * cmin
+      do m = 1, 2
+        h = 0.01_wp * cmin / m
+        d2(m) = semi_b(p, x + h) - 2.0_wp * semi_b(p, x) + semi_b(p, x - h)
+      end do
+      call check(abs(d2(1)) > 0 .and. abs(d2(1) / d2(2)) > 3.0_wp, 'conformal floor C1 at B/A_min = ' // &
+                 trim(real_text(x / cmin)))
+    end do
+    ! the floor's ends, against a model whose floor lies far below (R_max 1e6 m): A_min itself
+    ! below A_min / 2, the curvature itself above 3 A_min / 2
+    call build_hertz(p_free, err, max_equivalent_radius=1.0e6_wp)
+    if (allocated(err)) call fail_now(err%message)
+    call hertz_from_force(p, [1.0_wp / 0.46_wp, 2.0_wp * 0.2_wp * cmin, 0.0_wp, 0.0_wp], 2.0e4_wp, q)
+    call hertz_from_force(p_free, [1.0_wp / 0.46_wp, 2.0_wp * cmin, 0.0_wp, 0.0_wp], 2.0e4_wp, q0)
+    call check_close(q%b, q0%b, 1.0e-14_wp, 'conformal floor: A_min below A_min / 2')
+    call check(iand(q%warning, HERTZ_WARN_CLAMPED_LATERAL) /= 0, 'conformal floor: flagged below A_min')
+    call hertz_from_force(p, [1.0_wp / 0.46_wp, 2.0_wp * 1.6_wp * cmin, 0.0_wp, 0.0_wp], 2.0e4_wp, q)
+    call hertz_from_force(p_free, [1.0_wp / 0.46_wp, 2.0_wp * 1.6_wp * cmin, 0.0_wp, 0.0_wp], 2.0e4_wp, q0)
+    call check_close(q%b, q0%b, 1.0e-14_wp, 'conformal floor: the curvature itself above 3 A_min / 2')
+    call check(iand(q%warning, HERTZ_WARN_CLAMPED_LATERAL) == 0, 'conformal floor: no flag above A_min')
+  end subroutine check_conformal_floor_c1
+
+  !> The lateral semi-axis at 20 kN for the relative lateral curvature bb (the wheel's lateral
+  !> curvature 2 bb on a laterally flat rail, a 0.46 m wheel)
+  real(wp) function semi_b(p, bb)
+    type(hertz_params_t), intent(in) :: p
+    real(wp), intent(in) :: bb
+    type(hertz_patch_t) :: s
+    call hertz_from_force(p, [1.0_wp / 0.46_wp, 2.0_wp * bb, 0.0_wp, 0.0_wp], 2.0e4_wp, s)
+    semi_b = s%b
+  end function semi_b
+
+  function real_text(v) result(s)
+    real(wp), intent(in) :: v
+    character(len=16) :: s
+    write (s, '(f6.2)') v
+  end function real_text
 
   !> 'elliptic_table' against 'elliptic' (the path it tabulates): N, a, b, approach and the
   !> warning bits over 20 000 ratios B/A log-uniform in [1, 1e8] (beyond ln 1e6 the table hands
