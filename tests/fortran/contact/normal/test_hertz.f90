@@ -176,8 +176,8 @@ contains
         h = 0.01_wp * cmin / m
         d2(m) = semi_b(p, x + h) - 2.0_wp * semi_b(p, x) + semi_b(p, x - h)
       end do
-      call check(abs(d2(1)) > 0 .and. abs(d2(1) / d2(2)) > 3.0_wp, 'conformal floor C1 at B/A_min = ' // &
-                 trim(real_text(x / cmin)))
+      call check(abs(d2(1)) > 0 .and. abs(d2(1) / d2(2)) > 3.0_wp, 'conformal floor C1 at B = ' // &
+                 achar(iachar('0') + k) // '/2 A_min')
     end do
     ! the floor's ends, against a model whose floor lies far below (R_max 1e6 m): A_min itself
     ! below A_min / 2, the curvature itself above 3 A_min / 2
@@ -202,12 +202,6 @@ contains
     call hertz_from_force(p, [1.0_wp / 0.46_wp, 2.0_wp * bb, 0.0_wp, 0.0_wp], 2.0e4_wp, s)
     semi_b = s%b
   end function semi_b
-
-  function real_text(v) result(s)
-    real(wp), intent(in) :: v
-    character(len=16) :: s
-    write (s, '(f6.2)') v
-  end function real_text
 
   !> 'elliptic_table' against 'elliptic' (the path it tabulates): N, a, b, approach and the
   !> warning bits over 20 000 ratios B/A log-uniform in [1, 1e8] (beyond ln 1e6 the table hands
