@@ -17,7 +17,7 @@ The matrix is not the full factorial: one axis at a time around a base case (str
   rather than on the vehicle (measured, bench/extremes/rigid_track.py: with quasi-static
   normal contact the wheelset tips over the flange contact at the closed-form limit
   Y/Q = y_c / r, Y ~ 160 kN; with elastic contact the flange impacts throw the wheels off as
-  often as the assumed contact damping allows: TGV 15 % of the samples at 2e5 N s/m, none at
+  often as the assumed contact damping allows: TGV 14.6 % of the samples at 2e5 N s/m, none at
   2e6, Manchester 46 % and 19 %; on the flexible track no wheel of those runs leaves its rail
   and Y stays below ~150 kN). The other scenes' flange contacts are quasi-static and keep the
   rigid track;
