@@ -37,13 +37,16 @@ REPO = HERE.parents[1]
 sys.path.insert(0, str(REPO / "bench"))
 from performance_section import bench_arguments, earlier_json, measurement_start, write_section  # noqa: E402
 sys.path.insert(0, str(HERE))
+import run as matrix  # noqa: E402  (the extremes matrix: its vehicles, pulse and flexible track)
 from tipping import lift_ratios  # noqa: E402
 
-FLEXIBLE = REPO / "inputs" / "tracks" / "p2_flexible_track.nml"
-PULSE = "&external_force body = 'ws1', frame = 'track', force = 0.0, 15700.0, 0.0, t_start = 0.1, t_end = 0.2 /"
-#: (vehicle title, vehicle deck, speed [m/s]: 1.25 x the linear critical speed, bench/extremes/run.py)
-VEHICLES = {"manchester": ("Manchester V1", HERE / "manchester_vehicle.nml", 100.0),
-            "tgv": ("TGV 001 S1002/60E1", HERE / "tgv_profile_vehicle.nml", 131.0)}
+FLEXIBLE = (HERE / "scenes" / matrix.FLEXIBLE_TRACK).resolve()
+_MATRIX_VEHICLES = {v.key: v for v in matrix.vehicles()}
+#: (vehicle title, vehicle deck, speed [m/s]: the matrix's past-critical speed, 1.25 x the linear
+#: critical speed)
+VEHICLES = {key: (title, HERE / _MATRIX_VEHICLES[mkey].deck, float(round(1.25 * _MATRIX_VEHICLES[mkey].critical_speed)))
+            for key, mkey, title in (("manchester", "manchester", "Manchester V1"),
+                                     ("tgv", "tgv_profile", "TGV 001 S1002/60E1"))}
 #: (vehicle, normal contact, contact damping [N s/m] or None, flexible track)
 CASES = [("manchester", "quasi_static", None, False), ("manchester", "quasi_static", None, True),
          ("manchester", "elastic", 2.0e5, False), ("manchester", "elastic", 6.0e5, False),
@@ -59,17 +62,20 @@ def case_name(case) -> str:
     return f"{VEHICLES[veh][0]}, {normal.replace('_', '-')}{d}, {'flexible' if flexible else 'rigid'} track"
 
 
-def deck_text(case, t_end: float = 3.0) -> str:
+def deck_text(case, t_end: float = 3.0, wheelset: str | None = None) -> str:
+    """The case's deck; `wheelset` replaces its wheelset overrides (the contact level)."""
     veh, normal, damping, flexible = case
     _, vehicle, speed = VEHICLES[veh]
     over = f"contact_geometry = 'table', creep_law = 'fastsim', fastsim_saturation_width = 0.2, normal_contact = '{normal}'"
     if damping is not None:
         over += f", contact_damping = {damping:.1f}"
+    if wheelset is not None:
+        over = wheelset
     lines = [f"&include file = {str(vehicle)!r} /",
              f"&simulation title = 'rigid_track {case_name(case)}', t_end = {t_end}, speed = {speed},",
              "      start_sigma = 20.0, equilibrium = 'preload' /",
              "&track gauge = 1.435, rail_inclination = 0.025 /",
-             "&segment type = 'straight', length = 1000.0 /", PULSE]
+             "&segment type = 'straight', length = 1000.0 /", matrix.PULSE]
     if flexible:
         lines.append(f"&include file = {str(FLEXIBLE)!r} /")
     lines += [f"&wheelset name = 'w{k}', {over} /" for k in range(1, 5)]

@@ -38,21 +38,16 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "bench" / "extremes"))
+from rigid_track import deck_text  # noqa: E402  (bench/extremes/rigid_track.py's past-critical deck)
 from tipping import lift_ratios, wheel_series  # noqa: E402  (the closed form, per output sample)
 EXE = Path(os.environ.get("RAILDYN_BUILD_DIR", REPO / "build")).resolve() / "bin" / "raildyn"
-VEHICLE = REPO / "bench" / "extremes" / "manchester_vehicle.nml"
+#: the Manchester vehicle with quasi-static normal contact on rigid track (rigid_track.py's case)
+RIGID_MANCHESTER = ("manchester", "quasi_static", None, False)
 
 
 def run(tmp_path, name, t_end, wheelset_overrides):
-    lines = [f"&include file = {str(VEHICLE)!r} /",
-             f"&simulation title = 'tipping {name}', t_end = {t_end}, speed = 100.0, start_sigma = 20.0,",
-             "      equilibrium = 'preload' /",
-             "&track gauge = 1.435, rail_inclination = 0.025 /",
-             "&segment type = 'straight', length = 1000.0 /",
-             "&external_force body = 'ws1', frame = 'track', force = 0.0, 15700.0, 0.0, t_start = 0.1, t_end = 0.2 /"]
-    lines += [f"&wheelset name = 'w{k}', {wheelset_overrides} /" for k in range(1, 5)]
     deck = tmp_path / f"{name}.nml"
-    deck.write_text("\n".join(lines) + "\n")
+    deck.write_text(deck_text(RIGID_MANCHESTER, t_end, wheelset=wheelset_overrides))
     out = tmp_path / f"{name}.h5"
     res = subprocess.run([str(EXE), "run", str(deck), "-o", str(out), "--quiet"], capture_output=True, text=True,
                          timeout=900)
