@@ -46,22 +46,27 @@ equilibrium solve holds the wheelsets centred, docs/input_reference.md &simulati
 equilibrium); the straight scenes last 3 s (1.5 m at walking pace, 300-400 m past the critical
 speed).
 
-Levels (deck overrides of every wheelset or of &solver, as the fidelity map's): Manchester
-vehicle (profile contact, quasi-static normal contact): tables with linear+SHE, Polach and
-FASTSIM (smooth clip), online strips at 0.2 and 0.1 mm with FASTSIM and at 0.2 mm with the
-energy-consistent strip force (strip_normal_force = potential), tables with elastic normal
-contact (with the TGV 001 decks' contact damping, 2e5 N s/m: inputs/vehicles/tgv001_bogie.nml's
+Levels: every fidelity level of the map, read from bench/fidelity_map/run.py (deck overrides
+of every wheelset or of &solver; map_levels): for the Manchester vehicle (profile contact,
+quasi-static normal contact) and the TGV 001 with S1002/60E1 (elastic normal contact) the tables
+and the online strips at 0.2 and 0.1 mm, each with linear+SHE, Polach and FASTSIM (smooth clip),
+the other normal contact where the map has it (Manchester: elastic, on tables and on 0.2 mm
+strips, with the TGV 001 decks' contact damping, 2e5 N s/m: inputs/vehicles/tgv001_bogie.nml's
 ASSUMPTION; undamped, the wheels' ~180 Hz mode on the Hertz contact rang after every flange
 contact and the wheels hopped: contact loss in R 80 m, R 150 m at friction 0.6 and at 150 mm
-deficiency, measured 2026-11-30), and on tables-FASTSIM the integrators Adams, erk and rk4
-(1e-4 s). TGV 001 with
-S1002/60E1 (elastic normal contact): the same contact and law levels, and tables with
-quasi-static normal contact. TGV 001 knife edge: linear, Polach, FASTSIM and on Polach the
-integrators. A level does not apply where the deck would be refused (the unsaturated linear law
-reads no friction: the friction scenes), where the model has nothing to say (knife-edge
-contact has no flange: flange climb) or where it leaves its range before anything else stops
-it (the unsaturated linear law on knife-edge contact in the curves with cant deficiency:
-creep forces beyond the wheel load, DEFICIENCY_SCENES).
+deficiency, measured 2026-11-30; TGV: quasi-static on tables), the map's reference (strips 0.1
+mm, FASTSIM, BDF at rtol 1e-7, atol 1e-10) and the integrators Adams, erk and rk4 (1e-4 s) on
+the map's fastest level (Manchester: tables with linear+SHE; TGV profile: tables with FASTSIM and
+quasi-static contact); the TGV 001 with knife-edge contact: linear, Polach and FASTSIM and on
+Polach the integrators (the map's knife-edge scene runs the TGV profile vehicle's levels too:
+they are that vehicle's rows here). The study forms of the strip normal force (centroid,
+potential) are not levels (docs/performance.md "Which fidelity level for what").
+
+A level does not apply where the deck would be refused (the unsaturated linear law reads no
+friction: the friction scenes), where the model has nothing to say (knife-edge contact has no
+flange: flange climb) or where it leaves its range before anything else stops it (the
+unsaturated linear law on knife-edge contact in the curves with cant deficiency: creep forces
+beyond the wheel load, DEFICIENCY_SCENES).
 
 Outcome of a run:
 - completed: exit 0, results status 'completed', every value of every series finite, and no
@@ -98,6 +103,7 @@ from __future__ import annotations
 
 import argparse
 import hashlib
+import importlib.util
 import json
 import math
 import os
@@ -122,18 +128,11 @@ from raildyn.results import Results, open_results_file  # noqa: E402
 sys.path.insert(0, str(HERE))
 from tipping import TIPPING_SHARE, all_tipped, lift_ratios  # noqa: E402
 
-#: FASTSIM with the smooth clip (docs/theory_contact_mechanics.md), as the fidelity map's
-FASTSIM = {"creep_law": "fastsim", "fastsim_saturation_width": 0.2}
-LINEAR_SHE = {"creep_law": "linear", "creep_saturation": "shen_hedrick_elkins"}
-POLACH = {"creep_law": "polach"}
-TABLE = {"contact_geometry": "table"}
-STRIPS = {"contact_geometry": "strips"}
-STRIPS_FINE = {"contact_geometry": "strips", "strip_spacing": 1.0e-4}
-#: the energy-consistent patch force (docs/theory_flange_chatter.md section 13)
-STRIPS_POTENTIAL = {"contact_geometry": "strips", "strip_normal_force": "potential"}
-#: the patch force along the centroid's normal, the online strips' default until session 16
-#: (the strips levels above take the default: the distributed force, section 14)
-STRIPS_CENTROID = {"contact_geometry": "strips", "strip_normal_force": "centroid"}
+#: The fidelity map (bench/fidelity_map/run.py): the matrix's levels are its levels, read from it
+#: (a module of that name would clash with this one's, hence the spec).
+_spec = importlib.util.spec_from_file_location("fidelity_map_run", REPO / "bench" / "fidelity_map" / "run.py")
+fidelity_map = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(fidelity_map)
 
 
 @dataclass
@@ -258,35 +257,59 @@ DEFICIENCY_SCENES = {k: "unsaturated linear law in a curve with cant deficiency:
                         "load (run.py DEFICIENCY_SCENES)" for k in ("r80", "r150", "deficiency150")}
 
 
+def deck_settings(text: str) -> dict:
+    """Deck settings "a = 'x', b = 0.2" (a fidelity-map level's) as campaign overrides
+    {"a": "x", "b": 0.2}."""
+    out = {}
+    for key, val in re.findall(r"(\w+)\s*=\s*('[^']*'|[^,]+)", text):
+        val = val.strip()
+        out[key] = val[1:-1] if val.startswith("'") else (int(val) if re.fullmatch(r"[+-]?\d+", val) else float(val))
+    return out
+
+
+def knife_edge_not_for(name: str) -> dict:
+    """Scenes a knife-edge level does not apply to (module docstring): the unsaturated linear law
+    reads no friction and leaves its range in the curves with cant deficiency; no knife-edge
+    level has a flange to climb."""
+    if name.startswith("knife edge linear"):
+        return {**FRICTION_SCENES, **DEFICIENCY_SCENES}
+    return {"flange_climb": FRICTION_SCENES["flange_climb"]}
+
+
+def map_levels() -> dict[str, list[Level]]:
+    """Every fidelity level of the map (its scenes' levels, the reference, the integrators on
+    the fastest level) by matrix vehicle, in the map's order. A map scene's key is the key of
+    the matrix's vehicle of the same model, but for the knife-edge scene's levels with
+    S1002/60E1 contact (they set fidelity_map.PROFILE): those are the TGV profile vehicle's, and
+    a level the map runs in two scenes is one level here."""
+    out = {"manchester": [], "tgv_profile": [], "tgv_knife_edge": []}
+    profile_keys = set(deck_settings(fidelity_map.PROFILE))
+    for sc in fidelity_map.scene_list():
+        for ml in sc.levels + fidelity_map.integrator_levels(sc):
+            wheelset = deck_settings(ml.wheelset)
+            vehicle = sc.key
+            if vehicle == "tgv_knife_edge" and profile_keys <= set(wheelset):
+                vehicle = "tgv_profile"
+                wheelset = {k: v for k, v in wheelset.items() if k not in profile_keys}
+            lv = Level(ml.name, wheelset, deck_settings(ml.solver),
+                       knife_edge_not_for(ml.name) if vehicle == "tgv_knife_edge" else {})
+            same = [o for o in out[vehicle] if o.name == lv.name]
+            if same and (same[0].wheelset, same[0].solver) != (lv.wheelset, lv.solver):
+                raise ValueError(f"fidelity map: two levels named {lv.name!r} for {vehicle} differ")
+            if not same:
+                out[vehicle].append(lv)
+    return out
+
+
 def vehicles() -> list[Vehicle]:
     ws4 = ["w1", "w2", "w3", "w4"]
-    man = [Level("table linear+SHE", {**TABLE, **LINEAR_SHE}), Level("table polach", {**TABLE, **POLACH}),
-           Level("table fastsim", {**TABLE, **FASTSIM}), Level("strips 0.2 mm fastsim", {**STRIPS, **FASTSIM}),
-           Level("strips 0.1 mm fastsim", {**STRIPS_FINE, **FASTSIM}),
-           Level("strips 0.2 mm fastsim centroid", {**STRIPS_CENTROID, **FASTSIM}),
-           Level("strips 0.2 mm fastsim potential", {**STRIPS_POTENTIAL, **FASTSIM}),
-           Level("table fastsim elastic", {**TABLE, **FASTSIM, "normal_contact": "elastic", "contact_damping": 2.0e5},
-                 {"max_order": 0}),
-           Level("table fastsim, adams", {**TABLE, **FASTSIM}, {"method": "adams", "max_order": 0}),
-           Level("table fastsim, erk", {**TABLE, **FASTSIM}, {"method": "erk"}),
-           Level("table fastsim, rk4 1e-4 s", {**TABLE, **FASTSIM}, {"method": "rk4", "fixed_step": 1e-4})]
-    tgvp = [Level("table linear+SHE", {**TABLE, **LINEAR_SHE}), Level("table polach", {**TABLE, **POLACH}),
-            Level("table fastsim", {**TABLE, **FASTSIM}), Level("strips 0.2 mm fastsim", {**STRIPS, **FASTSIM}),
-            Level("strips 0.1 mm fastsim", {**STRIPS_FINE, **FASTSIM}),
-            Level("strips 0.2 mm fastsim centroid", {**STRIPS_CENTROID, **FASTSIM}),
-            Level("strips 0.2 mm fastsim potential", {**STRIPS_POTENTIAL, **FASTSIM}),
-            Level("table fastsim quasi-static", {**TABLE, **FASTSIM, "normal_contact": "quasi_static"})]
-    knife = [Level("knife edge linear", {"creep_law": "linear"}, not_for={**FRICTION_SCENES, **DEFICIENCY_SCENES}),
-             Level("knife edge polach", POLACH, not_for={"flange_climb": FRICTION_SCENES["flange_climb"]}),
-             Level("knife edge fastsim", FASTSIM, not_for={"flange_climb": FRICTION_SCENES["flange_climb"]})]
-    knife += [Level(f"knife edge polach, {name}", POLACH, solver, not_for={"flange_climb": FRICTION_SCENES["flange_climb"]})
-              for name, solver in (("adams", {"method": "adams", "max_order": 0}), ("erk", {"method": "erk"}),
-                                   ("rk4 1e-4 s", {"method": "rk4", "fixed_step": 1e-4}))]
+    levels = map_levels()
     return [Vehicle("manchester", "Manchester V1, S1002/60E1, quasi-static normal contact", "manchester_vehicle.nml",
-                    ws4, man, 80.169, 0.4),
+                    ws4, levels["manchester"], 80.169, 0.4),
             Vehicle("tgv_profile", "TGV 001, S1002/60E1, elastic normal contact", "tgv_profile_vehicle.nml",
-                    ws4, tgvp, 104.727, 0.45),
-            Vehicle("tgv_knife_edge", "TGV 001, knife edge", "tgv_knife_edge_vehicle.nml", ws4, knife, 105.924, None)]
+                    ws4, levels["tgv_profile"], 104.727, 0.45),
+            Vehicle("tgv_knife_edge", "TGV 001, knife edge", "tgv_knife_edge_vehicle.nml", ws4,
+                    levels["tgv_knife_edge"], 105.924, None)]
 
 
 def scene_deck_text(v: Vehicle, s: Scene) -> str:

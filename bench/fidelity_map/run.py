@@ -2,7 +2,7 @@
 """The fidelity map (issue 14 item 3): for each scene, every modelling level that applies -
 knife-edge contact, contact tables, online strips at two spacings, each with the linear,
 Polach and FASTSIM (smooth clip) laws, elastic against quasi-static normal contact, and the
-integrators on the cheapest level - run one after the other (the machine has 2 shared cores),
+integrators on the scene's fastest level - run one after the other (the machine has 2 shared cores),
 each measured by its CPU seconds (user + system of the runner process, less exposed to the
 other jobs of a shared machine than the wall time), steps and right-hand-side calls, and its
 error against the scene's reference level (the finest online model at tight tolerances).
@@ -19,9 +19,10 @@ Errors:
 
 A level that fails (solver failure, physics-limit stop, time-out) is a row with its outcome.
 Writes a table into docs/performance.md (section fidelity_map), a Pareto plot (CPU seconds
-against error) into docs/fidelity_map.png, and every measured row into a JSON file
-(--json, default <build>/fidelity_map/map.json; --from-json rewrites the docs from it
-without running anything, e.g. after a run was cut short).
+against error) into docs/fidelity_map.png, the same tables into validation/fidelity_map.json
+(the validation report's section "Fidelity map", raildyn.validation.fidelity_map), and every
+measured row into a JSON file (--json, default <build>/fidelity_map/map.json; --from-json
+rewrites the docs from it without running anything, e.g. after a run was cut short).
 
     python3 bench/fidelity_map/run.py [--build DIR] [--quick] [--scenes manchester tgv_profile tgv_knife_edge]
         [--timeout S] [--json FILE] [--from-json FILE] [--no-write]
@@ -47,6 +48,8 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
+#: the published map for the validation report (raildyn.validation.fidelity_map)
+PUBLISHED = REPO / "validation" / "fidelity_map.json"
 sys.path.insert(0, str(REPO / "python"))
 import raildyn  # noqa: E402
 from raildyn import validation as V  # noqa: E402
@@ -70,8 +73,8 @@ ELASTIC = "normal_contact = 'elastic', contact_damping = 2.0e5"
 #: Reference integration: CVODE BDF, rtol 100 times tighter than the decks' 1e-5, and one atol of
 #: 1e-10 for coordinates and rates (the Manchester deck gives its rates 1e-5 m/s).
 REFERENCE_SOLVER = "method = 'bdf', rtol = 1e-7, atol = 1e-10, atol_velocity = 1e-10"
-#: Integrators run on the scene's cheapest level, at the deck's tolerances; rk4 at the deck
-#: default step.
+#: Integrators run on the scene's fastest level (Scene.integrator_base), at the deck's
+#: tolerances; rk4 at the deck default step.
 INTEGRATORS = [("adams", "method = 'adams', max_order = 0"), ("erk", "method = 'erk'"),
                ("rk4 1e-4 s", "method = 'rk4', fixed_step = 1e-4")]
 
@@ -119,6 +122,21 @@ class Scene:
     manchester: bool = False
     #: normal contact of the deck (the levels' default)
     normal: str = "elastic"
+    #: the level the integrators run on: the scene's fastest. Declared, not picked by the
+    #: run's CPU seconds: the table levels (and the knife-edge laws) are within the shared
+    #: machine's noise of each other (Manchester 0.6-0.7 CPU s, TGV profile 1.7-2.0, knife edge
+    #: 2.2-3.3 on 62ab550), a pick by measurement changed from run to run, and the extremes
+    #: matrix (bench/extremes/run.py) runs the integrators on the same level.
+    integrator_base: str = ""
+
+
+def integrator_levels(scene: Scene, base_name: str | None = None) -> list[Level]:
+    """The integrator levels of a scene: its integrator base (or the level `base_name`) under
+    each of INTEGRATORS (the deck's tolerances stay; adams gets its own default order
+    (max_order 0), erk and rk4 read no max_order)."""
+    base = next(lv for lv in scene.levels if lv.name == (base_name or scene.integrator_base))
+    return [Level(f"{base.name}, {label}", base.contact, base.law, base.normal, label, base.wheelset, solver)
+            for label, solver in INTEGRATORS]
 
 
 def scene_list():
@@ -135,23 +153,12 @@ def scene_list():
                   f"{TABLE}, {FASTSIM}, {ELASTIC}", "max_order = 0"),
             Level("strips 0.2 mm fastsim elastic", "strips 0.2 mm", "fastsim", "elastic", "bdf",
                   f"{STRIPS}, {FASTSIM}, {ELASTIC}", "max_order = 0"),
-            # the patch normal force along the centroid's normal (the default before the
-            # distributed one) and the energy-consistent patch force
-            # (docs/theory_flange_chatter.md sections 13, 14)
-            Level("strips 0.2 mm fastsim centroid", "strips 0.2 mm", "fastsim", qs, "bdf",
-                  f"{STRIPS}, {FASTSIM}, strip_normal_force = 'centroid'"),
-            Level("strips 0.2 mm fastsim potential", "strips 0.2 mm", "fastsim", qs, "bdf",
-                  f"{STRIPS}, {FASTSIM}, strip_normal_force = 'potential'"),
             Level("reference", "strips 0.1 mm", "fastsim", qs, "bdf rtol 1e-7",
                   f"{STRIPS_FINE}, {FASTSIM}", REFERENCE_SOLVER, reference=True)]
     tgv = grid([("table", TABLE), ("strips 0.2 mm", STRIPS), ("strips 0.1 mm", STRIPS_FINE)],
                list(LAWS), "elastic")
     tgv += [Level("table fastsim quasi-static", "table", "fastsim", qs, "bdf",
                   f"{TABLE}, {FASTSIM}, normal_contact = 'quasi_static'"),
-            Level("strips 0.2 mm fastsim centroid", "strips 0.2 mm", "fastsim", "elastic", "bdf",
-                  f"{STRIPS}, {FASTSIM}, strip_normal_force = 'centroid'"),
-            Level("strips 0.2 mm fastsim potential", "strips 0.2 mm", "fastsim", "elastic", "bdf",
-                  f"{STRIPS}, {FASTSIM}, strip_normal_force = 'potential'"),
             Level("reference", "strips 0.1 mm", "fastsim", "elastic", "bdf rtol 1e-7",
                   f"{STRIPS_FINE}, {FASTSIM}", REFERENCE_SOLVER, reference=True)]
     knife = [Level(f"knife edge {law}", "knife edge", law, "elastic", "bdf", setting)
@@ -162,11 +169,11 @@ def scene_list():
               Level("reference", "strips 0.1 mm", "fastsim", "elastic", "bdf rtol 1e-7",
                     f"{PROFILE}, {STRIPS_FINE}, {FASTSIM}", REFERENCE_SOLVER, reference=True)]
     return [Scene("manchester", "manchester_v1_tc1.nml", "Manchester V1 TC1 (acceptance deck), 22.5 s",
-                  man, 4.0, manchester=True, normal=qs),
+                  man, 4.0, manchester=True, normal=qs, integrator_base="table linear+SHE"),
             Scene("tgv_profile", "tgv_profile_fastsim.nml", "TGV 001 vehicle, S1002/UIC60, 25.6 m/s, 18 s",
-                  tgv, 3.0),
+                  tgv, 3.0, integrator_base="table fastsim quasi-static"),
             Scene("tgv_knife_edge", "tgv_vehicle_curve.nml", "TGV 001 vehicle, knife edge, into R 1000 m, 25 s",
-                  knife, 5.0)]
+                  knife, 5.0, integrator_base="knife edge polach")]
 
 
 def write_deck(tmp: Path, scene: Scene, level: Level, t_end: float | None, tag: str) -> Path:
@@ -295,8 +302,8 @@ def measure(exe, tmp, scene, level, t_end, tag, env, timeout, ref, manchester, k
 
 
 def run_scene(exe, tmp, scene, quick, env, timeout, rows, save, integrators_on=None):
-    """The scene's reference, its levels, and the integrators on its cheapest completed level.
-    integrators_on = a level's name: that level and the integrators only (no reference)."""
+    """The scene's reference, its levels, and the integrators on its fastest level.
+    integrators_on = a level's name: that level and the integrators on it only (no reference)."""
     t_end = scene.quick_t_end if quick else None
     print(f"== {scene.title}", flush=True)
     ref = None
@@ -307,7 +314,7 @@ def run_scene(exe, tmp, scene, quick, env, timeout, rows, save, integrators_on=N
         save()
         print(f"   {ref_level.name}: {ref_row.outcome}, {ref_row.cpu:.1f} CPU s", flush=True)
     table_built = False
-    cheapest = None
+    base = base_series = None
     levels = [lv for lv in scene.levels if not lv.reference and integrators_on in (None, lv.name)]
     for i, level in enumerate(levels):
         if level.contact == "table" and not table_built:
@@ -330,15 +337,11 @@ def run_scene(exe, tmp, scene, quick, env, timeout, rows, save, integrators_on=N
             save()
         print(f"   {level.name}: {row.outcome}, {row.cpu:.1f} CPU s, y {row.err_y:.2g} %, "
               f"F {row.err_force:.2g} %, entries {row.err_entries:.2g} %", flush=True)
-        if row.outcome == "completed" and (cheapest is None or row.cpu < cheapest[1].cpu):
-            cheapest = (level, row, series)
-    if cheapest is None:
+        if level.name == (integrators_on or scene.integrator_base) and row.outcome == "completed":
+            base, base_series = level, series
+    if base is None:
         return
-    base, base_series = cheapest[0], cheapest[2]
-    for j, (label, solver) in enumerate(INTEGRATORS):
-        # the deck's tolerances stay; adams gets its own default order (max_order 0), erk and rk4
-        # read no max_order (a deck's is ignored with a warning)
-        level = Level(f"{base.name}, {label}", base.contact, base.law, base.normal, label, base.wheelset, solver)
+    for j, level in enumerate(integrator_levels(scene, integrators_on)):
         row, series = measure(exe, tmp, scene, level, t_end, f"i{j}", env, timeout, ref, scene.manchester)
         if series is not None and base_series is not None:
             # the integrator's own error: against the same level under BDF at the deck's tolerances
@@ -406,45 +409,48 @@ def strip_paths(text: str) -> str:
     return re.sub(r"(?:/[\w.\-]+)+/(?=[\w.\-]+)", "", text)
 
 
-def render(data: dict, png: Path) -> str:
-    rows, meta = data["rows"], data["meta"]
+#: The explanation above the published tables (docs/performance.md and the validation report).
+INTRO = ("Each level is the scene's deck with its wheelsets' contact and creep law, or its solver, "
+         "replaced. CPU s = user + system seconds of the runner process (one run, levels run one after "
+         "the other); CPU/sim = CPU s per simulated second (the issue's real-time factor: 0.044 = 1 CPU s "
+         "for Manchester's 22.5 s); RHS = right-hand-side calls of the method + those of the difference-"
+         "quotient Jacobians. Errors against the scene's reference (the finest online model: strips "
+         "0.1 mm, FASTSIM with the smooth clip, BDF rtol 1e-7, atol 1e-10 for coordinates and rates): y = "
+         "largest difference of a wheelset's lateral shift over the run, F = of a wheel's lateral or "
+         "vertical force, each in % of the reference's range of that quantity; Manchester entries = "
+         "largest difference of the 32 window entries of the validation rule in % of their family's scale "
+         "S (docs/validation.md), median over the 32 in brackets; rule = the level's own verdict of the "
+         "acceptance rule. Integrator rows run the scene's fastest level (declared: the table levels are "
+         "within the shared machine's noise of each other) at the deck's tolerances (rk4: fixed step 1e-4 "
+         "s); '(x % from bdf)' is their largest difference (shift, force, entry) from that level under "
+         "BDF, the integrator's own share. FASTSIM = 10 x 10 with the smooth clip "
+         "(fastsim_saturation_width = 0.2); linear = Kalker's coefficients without saturation (knife "
+         "edge), linear+SHE = with Shen-Hedrick-Elkins saturation (profile levels: the decks' friction "
+         "coefficient is refused by the unsaturated law); table = contact tables of the 0.2 mm strips "
+         "(cached: the table-build row is the first run's cost).")
+SHIPPED_NOTE = ("The decks as shipped, each run once: errors of the tables deck against the acceptance "
+                "deck's run (marked ref); the first tables run starts with an empty cache and builds "
+                "the table, the second reads it.")
+
+
+def published_tables(data: dict) -> list[dict]:
+    """The map's tables, one per scene, as published: {title, note, columns, rows (cells as
+    text), footnote}; docs/performance.md (render) and the validation report
+    (validation/fidelity_map.json, raildyn.validation.fidelity_map) show the same."""
+    rows = data["rows"]
     for r in rows:
         r["notes"] = [strip_paths(n) for n in r["notes"]]
     scenes = {s.key: s for s in scene_list()}
     scenes["manchester_decks"] = Scene("manchester_decks", "manchester_v1_tc1.nml",
                                        "Manchester V1 TC1: the tables deck against the acceptance deck, as shipped",
                                        [], 0, manchester=True)
-    lines = ["### Fidelity map: cost against accuracy (bench/fidelity_map/run.py)", "",
-             f"{meta['label']}", "",
-             "Each level is the scene's deck with its wheelsets' contact and creep law, or its solver, "
-             "replaced. CPU s = user + system seconds of the runner process (one run, levels run one after "
-             "the other); CPU/sim = CPU s per simulated second (the issue's real-time factor: 0.044 = 1 CPU s "
-             "for Manchester's 22.5 s); RHS = right-hand-side calls of the method + those of the difference-"
-             "quotient Jacobians. Errors against the scene's reference (the finest online model: strips "
-             "0.1 mm, FASTSIM with the smooth clip, BDF rtol 1e-7, atol 1e-10 for coordinates and rates): y = largest difference of a "
-             "wheelset's lateral shift over the run, F = of a wheel's lateral or vertical force, each in % of "
-             "the reference's range of that quantity; Manchester entries = largest difference of the 32 "
-             "window entries of the validation rule in % of their family's scale S (docs/validation.md), "
-             "median over the 32 in brackets; rule = the level's own verdict of the acceptance rule. Integrator rows run the scene's cheapest "
-             "level at the deck's tolerances (rk4: fixed step 1e-4 s); '(x % from bdf)' is their largest "
-             "difference (shift, force, entry) from that level under BDF, the integrator's own share. FASTSIM "
-             "= 10 x 10 with the smooth clip (fastsim_saturation_width = 0.2); linear = Kalker's "
-             "coefficients without saturation (knife edge), linear+SHE = with Shen-Hedrick-Elkins saturation (profile levels: the decks' friction coefficient is refused by the unsaturated law); table = contact tables of the 0.2 mm strips (cached: the "
-             "table-build row is the first run's cost).", ""]
+    tables = []
     for key in [k for k in scenes if any(r["scene"] == k for r in rows)]:
         sc = scenes[key]
         man = sc.manchester
-        lines += [f"#### {sc.title}", ""]
-        if key == "manchester_decks":
-            lines += ["The decks as shipped, each run once: errors of the tables deck against the acceptance "
-                      "deck's run (marked ref); the first tables run starts with an empty cache and builds "
-                      "the table, the second reads it.", ""]
-        hdr = "| level | contact | law | normal | integrator | outcome | CPU s | CPU/sim | steps | RHS | y % | F % |"
-        sep = "|---|---|---|---|---|---|---:|---:|---:|---:|---:|---:|"
-        if man:
-            hdr += " entries % S | rule |"
-            sep += "---:|---|"
-        lines += [hdr, sep]
+        columns = ["level", "contact", "law", "normal", "integrator", "outcome", "CPU s", "CPU/sim", "steps", "RHS",
+                   "y %", "F %"] + (["entries % S", "rule"] if man else [])
+        cells = []
         for r in (r for r in rows if r["scene"] == key):
             lv = r["level"]
             sim = r["t_end"]
@@ -455,23 +461,52 @@ def render(data: dict, png: Path) -> str:
             rhs = f"{r['rhs']} + {r['rhs_jac']}" if r["steps"] else ""
             integ = lv["integrator"] + (f" ({fmt(r.get('err_base', float('nan')))} % from bdf)"
                                         if np.isfinite(r.get("err_base", float("nan"))) else "")
-            cells = [lv["name"], lv["contact"], lv["law"], lv["normal"], integ, outcome,
-                     fmt(r["cpu"], ".1f"), fmt(rtf, ".3f"), str(r["steps"]) if r["steps"] else "", rhs,
-                     "ref" if lv["reference"] else fmt(r["err_y"]), "ref" if lv["reference"] else fmt(r["err_force"])]
+            row = [lv["name"], lv["contact"], lv["law"], lv["normal"], integ, outcome,
+                   fmt(r["cpu"], ".1f"), fmt(rtf, ".3f"), str(r["steps"]) if r["steps"] else "", rhs,
+                   "ref" if lv["reference"] else fmt(r["err_y"]), "ref" if lv["reference"] else fmt(r["err_force"])]
             if man:
                 ent = "ref" if lv["reference"] else (
                     f"{fmt(r['err_entries'])} ({fmt(r['err_entries_median'])}; {r['err_entry']})"
                     if np.isfinite(r["err_entries"]) else "")
-                cells += [ent, r["rule"]]
-            lines.append("| " + " | ".join(cells) + " |")
+                row += [ent, r["rule"]]
+            cells.append(row)
         notes = [f"{r['level']['name']}: {'; '.join(r['notes'])}" for r in rows
                  if r["scene"] == key and r["notes"] and r["outcome"] == "completed"]
-        if notes:
-            lines += ["", "Notes of completed runs: " + " / ".join(notes)]
+        tables.append({"title": sc.title, "note": SHIPPED_NOTE if key == "manchester_decks" else "",
+                       "columns": columns, "rows": cells,
+                       "footnote": "Notes of completed runs: " + " / ".join(notes) if notes else ""})
+    return tables
+
+
+def source_line(meta: dict) -> str:
+    return f"Source: commit {meta.get('commit', '?')}. Host: {meta['host']}; {meta['when']}."
+
+
+def render(data: dict, png: Path) -> str:
+    """docs/performance.md's section fidelity_map."""
+    lines = ["### Fidelity map: cost against accuracy (bench/fidelity_map/run.py)", "",
+             f"{data['meta']['label']}", "", INTRO, ""]
+    for t in published_tables(data):
+        lines += [f"#### {t['title']}", ""]
+        if t["note"]:
+            lines += [t["note"], ""]
+        right = {"CPU s", "CPU/sim", "steps", "RHS", "y %", "F %", "entries % S"}
+        lines += ["| " + " | ".join(t["columns"]) + " |",
+                  "|" + "|".join("---:" if c in right else "---" for c in t["columns"]) + "|"]
+        lines += ["| " + " | ".join(row) + " |" for row in t["rows"]]
+        if t["footnote"]:
+            lines += ["", t["footnote"]]
         lines.append("")
-    lines += [f"![Fidelity map: CPU seconds against error]({png.name})", "",
-              f"Source: commit {meta.get('commit', '?')}. Host: {meta['host']}; {meta['when']}."]
+    lines += [f"![Fidelity map: CPU seconds against error]({png.name})", "", source_line(data["meta"])]
     return "\n".join(lines) + "\n"
+
+
+def published_json(data: dict) -> dict:
+    """validation/fidelity_map.json: what the validation report's fidelity-map section shows."""
+    return {"about": "written by bench/fidelity_map/run.py with docs/performance.md's section fidelity_map "
+                     "and docs/fidelity_map.png (the Pareto plot); read by raildyn.validation.fidelity_map",
+            "label": data["meta"]["label"], "intro": INTRO, "tables": published_tables(data),
+            "source": source_line(data["meta"]), "quick": bool(data["meta"].get("quick"))}
 
 
 def plot(data: dict, png: Path):
@@ -600,6 +635,7 @@ def main():
     print(text)
     if not args.no_write:
         plot(data, png)
+        PUBLISHED.write_text(json.dumps(published_json(data), indent=1) + "\n")
         sys.path.insert(0, str(REPO / "bench"))
         from performance_section import write_section
         write_section("fidelity_map", text)

@@ -9,8 +9,13 @@ and the classifier's verdict checked against what each run must give:
   limit (exit 3, reason "wheel lift-off"): the moment moves M / (2 b) of load between the wheels
   (b = 0.75 m), so 2 b Q = 1.5 m x 67.7 kN = 102 kN m unloads a wheel (Q = 55 240 kg g / 8); the
   wheel must lift, and 0.2 s is ample for 5 mm;
-- a Manchester run in R 80 m on 0.1 mm strips with a CPU-time limit of 1 s (it took 179 CPU s in
-  the published matrix) is stopped by the wrapper and classified as a hang (FAILURE).
+- a Manchester run at walking pace with Adams on tables with a CPU-time limit of 1 s (~15 CPU s
+  for the quick 0.7 s) is stopped by the wrapper and classified as a hang (FAILURE);
+- the two knife-edge rows again through the Slurm backend (one job array per campaign) on a
+  real single-node Slurm: the same outcomes.
+
+The matrix's levels are the fidelity map's (bench/fidelity_map/run.py), each with its deck
+settings, and no others.
 
 And the classifier on results it did not write: a completed run whose results hold a NaN, a
 solver failure (exit 2) and an exit 3 without a documented reason are FAILUREs; a wheel without
@@ -55,6 +60,42 @@ def test_scene_decks_are_those_the_script_writes(bench):
         assert p.read_text() == expected[p.name], p.name
 
 
+def test_matrix_levels_are_the_maps(bench):
+    """Item 5 asks the matrix for every fidelity level of the map: each level of each map scene
+    (bench/fidelity_map/run.py), the reference and the integrators on the scene's fastest level
+    included, is a level of the matrix's vehicle of that model, with the same deck settings
+    (read here token by token from the map's text), and the matrix has no level the map lacks.
+    The map's knife-edge scene runs the TGV vehicle with S1002/60E1 too: those levels are the
+    TGV profile vehicle's. The study forms of the strip normal force (centroid, potential) are
+    not fidelity levels (docs/performance.md "Which fidelity level for what")."""
+    fm = bench.fidelity_map
+    matrix = {v.key: {lv.name: lv for lv in v.levels} for v in bench.vehicles()}
+    seen = {key: set() for key in matrix}
+
+    def same(settings: str, got: dict, drop=()):
+        tokens = [t.split("=") for t in settings.split(",") if t.strip()]
+        want = {k.strip(): v.strip() for k, v in tokens if k.strip() not in drop}
+        assert set(got) == set(want), (settings, got)
+        for k, v in want.items():
+            if v.startswith("'"):
+                assert got[k] == v.strip("'"), (k, got[k], v)
+            else:
+                assert isinstance(got[k], (int, float)) and got[k] == float(v), (k, got[k], v)
+
+    for sc in fm.scene_list():
+        for ml in sc.levels + fm.integrator_levels(sc):
+            assert "strip_normal_force" not in ml.wheelset, ml.name
+            profile = sc.key == "tgv_knife_edge" and "contact = 'profile'" in ml.wheelset
+            key = "tgv_profile" if profile else sc.key
+            assert ml.name in matrix[key], (sc.key, ml.name)
+            lv = matrix[key][ml.name]
+            same(ml.wheelset, lv.wheelset, ("contact", "wheel_profile", "rail_profile") if profile else ())
+            same(ml.solver, lv.solver)
+            seen[key].add(ml.name)
+    assert {k: set(v) for k, v in matrix.items()} == seen
+    assert any(n.endswith(", rk4 1e-4 s") for n in seen["tgv_profile"])
+
+
 def test_matrix_rows_classified(bench, build_dir, tmp_path, monkeypatch):
     monkeypatch.setenv("RAILDYN_CACHE_DIR", str(tmp_path / "cache"))
     lines = []
@@ -71,12 +112,36 @@ def test_matrix_rows_classified(bench, build_dir, tmp_path, monkeypatch):
     # the hang: a CPU-time limit the run cannot meet. A scene near 1 CPU s would make this test
     # depend on the machine's speed: R 80 m on 0.1 mm strips, chosen first, took 0.98 CPU s for
     # the quick 0.7 s once the contact got cheaper (2026-11-29). Walking pace with Adams on
-    # tables took 65.8 CPU s for 3 s in the published matrix (docs/performance.md), ~15 for 0.7 s
+    # tables took 65.8 CPU s for 3 s in the published matrix (docs/performance.md; table
+    # fastsim then, the integrators' base), ~15 for 0.7 s
     rows = bench.run_matrix(build_dir, tmp_path / "h", 1, "local", [], True,
-                            ["manchester:walk:table fastsim, adams"], 600.0, 1, progress=lines.append)
+                            ["manchester:walk:table linear+SHE, adams"], 600.0, 1, progress=lines.append)
     assert len(rows) == 1 and rows[0].outcome == "FAILURE", lines
     assert rows[0].reason.startswith("hang: still running at the CPU-time limit of 1 s"), rows[0].reason
     assert not rows[0].expected
+
+
+def test_matrix_rows_on_slurm(bench, build_dir, tmp_path, monkeypatch, slurm):
+    """The matrix's Slurm backend (`run.py --backend slurm`: one job array per campaign) on a real
+    single-node Slurm (the `slurm` fixture): the two knife-edge rows of the local test above
+    end as they do locally - completed, and the lift-off stop - measured by the same wrapper."""
+    monkeypatch.setenv("RAILDYN_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setenv("SLURM_CONF", slurm["SLURM_CONF"])
+    lines = []
+    rows = bench.run_matrix(build_dir, tmp_path / "w", 2, "slurm", [], True,
+                            ["tgv_knife_edge:base:knife edge polach", "tgv_knife_edge:lift_off:knife edge polach"],
+                            600.0, 300, progress=lines.append)
+    by_scene = {r.scene: r for r in rows}
+    assert set(by_scene) == {"base", "lift_off"}, lines
+    ok, stop = by_scene["base"], by_scene["lift_off"]
+    assert (ok.outcome, ok.reason, ok.expected) == ("completed", "", True), lines
+    assert ok.steps > 0 and ok.cpu > 0 and ok.t_reached == pytest.approx(0.7)
+    assert stop.outcome == "physics stop" and "wheel lift-off" in stop.reason, lines
+    assert 0.5 < stop.t_reached < 0.7, stop.reason
+    # the runs went through Slurm: each campaign's job array and its task's log
+    for scene in ("base", "lift_off"):
+        camp = tmp_path / "w" / "quick" / "tgv_knife_edge" / scene / "knife_edge_polach"
+        assert (camp / "campaign.sbatch").is_file() and list(camp.glob("slurm-*_0.out")), sorted(camp.iterdir())
 
 
 def _run_folder(path: Path, exit_code: int, log: str = "") -> Path:

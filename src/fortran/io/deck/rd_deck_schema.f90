@@ -422,10 +422,13 @@ contains
              'on Hertzian gaps: a conservative, smooth force field; the patches take their loads from their ' // &
              'strips and CONTACT''s reference point; docs/theory_flange_chatter.md section 14), centroid ' // &
              '(per patch: the refined peak penetration along the rail normal at the centroid of the ' // &
-             'virtual-penetration region; not conservative where the contact jumps) or potential (per ' // &
+             'virtual-penetration region; not conservative where the contact jumps; the default before ' // &
+             'the distributed force, kept to compare with earlier results) or potential (per ' // &
              'patch: an effective penetration and its gradient; experimental: several times the CPU; its ' // &
              'direction can leave the surface normals at conformal flange contact (not for derailment ' // &
-             'studies); section 13)', default='distributed', allowed='distributed|centroid|potential'), &
+             'studies); section 13); centroid and potential are study options, not fidelity levels ' // &
+             '(docs/performance.md "Which fidelity level for what")', default='distributed', &
+             allowed='distributed|centroid|potential'), &
                 'contact_geometry', 'strips'), &
       only_with(preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift (the build ' // &
               'time grows as 1/step: about 1-4 s at 1e-4)', default=1.0e-4_wp, &
