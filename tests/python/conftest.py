@@ -13,6 +13,17 @@ if str(REPO / "python") not in sys.path:
     sys.path.insert(0, str(REPO / "python"))
 
 
+def load_script(rel: str, name: str):
+    """A script of the repository (bench/...) imported as module `name` (registered in
+    sys.modules: dataclasses look their module up)."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(name, REPO / rel)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
 @pytest.fixture(scope="session")
 def build_dir() -> Path:
     """Build tree: $RAILDYN_BUILD_DIR (ctest sets it) or <repo>/build."""

@@ -23,7 +23,6 @@ unnoticed once when raildyn.validation renamed a helper). Nothing is timed.
   by raildyn.Results, the tight run compared with itself differs by 0 and the deck's run does
   not; `render` names both rows.
 """
-import importlib.util
 import os
 import sys
 from dataclasses import asdict, replace
@@ -32,25 +31,19 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import load_script
+
 REPO = Path(__file__).resolve().parents[2]
-
-
-def _load(rel: str, name: str):
-    spec = importlib.util.spec_from_file_location(name, REPO / rel)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod      # dataclasses look their module up
-    spec.loader.exec_module(mod)
-    return mod
 
 
 @pytest.fixture(scope="module")
 def fidelity_map():
-    return _load("bench/fidelity_map/run.py", "bench_fidelity_map_run")
+    return load_script("bench/fidelity_map/run.py", "bench_fidelity_map_run")
 
 
 @pytest.fixture(scope="module")
 def friction():
-    return _load("bench/manchester_friction/run.py", "bench_manchester_friction_run")
+    return load_script("bench/manchester_friction/run.py", "bench_manchester_friction_run")
 
 
 def test_fidelity_map_measures_compares_and_renders(fidelity_map, build_dir, tmp_path):
@@ -94,12 +87,12 @@ def test_manchester_friction_measures(friction, build_dir, tmp_path):
     percent, key = mf.scale_differences(a, b)
     assert key == force.key
     assert percent == pytest.approx(100.0 * 1000.0 / mf.V.family_scales(entries)[force.quantity])
-    cycle = _load("bench/manchester_friction/cycle.py", "bench_manchester_friction_cycle")
+    cycle = load_script("bench/manchester_friction/cycle.py", "bench_manchester_friction_cycle")
     cycle.report(out, "short")      # reads wheelset 1's channels by the writer's names
 
 
 def test_solver_tolerance_measures_and_renders(build_dir, tmp_path):
-    st = _load("bench/solver_tolerance/run.py", "bench_solver_tolerance_run")
+    st = load_script("bench/solver_tolerance/run.py", "bench_solver_tolerance_run")
     exe = build_dir / "bin" / "raildyn"
     env = dict(os.environ, RAILDYN_CACHE_DIR=str(tmp_path / "cache"))
     ref_row, ref, ref_max = st.measure(exe, tmp_path, env, "tables", "tight", st.TIGHT[1], None, t_end=0.3)
@@ -137,7 +130,7 @@ def test_friction_energy_work_per_cycle(tmp_path):
     cycle is -v c (e0^2 + e1^2 / 2) T and its part on the fluctuation -v c e1^2 T / 2; a normal
     force N = k delta (conservative: no loop work) and a height z = z1 sin (rate amplitude z1 w)."""
     import h5py
-    en = _load("bench/manchester_friction/energy.py", "bench_manchester_friction_energy")
+    en = load_script("bench/manchester_friction/energy.py", "bench_manchester_friction_energy")
     f_hz, v, c, e0, e1, k, z1 = 140.0, 4.4, 2.0e6, 1.0e-3, 2.0e-4, 1.0e9, 5.0e-5
     w = 2 * np.pi * f_hz
     t = np.arange(0.0, 0.2, 1.0 / (f_hz * 400))
@@ -184,7 +177,7 @@ def test_friction_energy_balance_per_coordinate(tmp_path):
     creep force and gravity (constant forces on periodic coordinates) give nothing; the wheel
     forces rebuilt from the patch equal the wheel series."""
     import h5py
-    en = _load("bench/manchester_friction/energy.py", "bench_manchester_friction_energy")
+    en = load_script("bench/manchester_friction/energy.py", "bench_manchester_friction_energy")
     f_hz, amp_y, amp_z, lag, n0, n1, gamma, damping = 140.0, 2.0e-5, 5.0e-5, 0.7, 6.0e4, 2.0e4, -1.0, 2.0e3
     w = 2 * np.pi * f_hz
     t = np.arange(0.0, 0.2, 1.0 / (f_hz * 400))
@@ -233,7 +226,7 @@ def test_jacobian_age_measures_and_renders(build_dir, tmp_path):
     0.3 s at the default age and an old one: the default is the reference (no difference to
     itself: NaN), the old age evaluates fewer Jacobians and is compared with it (a finite
     difference; its size is test_solver_jacobian_age's, over 1 s); `render` lists both."""
-    bench = _load("bench/jacobian_age/run.py", "bench_jacobian_age")
+    bench = load_script("bench/jacobian_age/run.py", "bench_jacobian_age")
     env = dict(os.environ, RAILDYN_CACHE_DIR=str(tmp_path / "cache"))
     rows = bench.measure_deck(build_dir / "bin" / "raildyn", tmp_path, env, "tgv knife-edge curve",
                               "tgv_vehicle_curve.nml", False, ages=[51, 1000], rounds=1, t_end=0.3)
@@ -265,7 +258,7 @@ def test_compare_builds_scenes_only(build_dir):
 def test_rigid_track_study_measures_and_renders(build_dir, tmp_path):
     """bench/extremes/rigid_track.py: the rigid and the flexible quasi-static Manchester cases,
     0.7 s each."""
-    bench = _load("bench/extremes/rigid_track.py", "bench_rigid_track")
+    bench = load_script("bench/extremes/rigid_track.py", "bench_rigid_track")
     exe = build_dir / "bin" / "raildyn"
     rigid, flexible = (bench.run_case(exe, tmp_path, i, case, t_end=0.7)
                        for i, case in enumerate([("manchester", "quasi_static", None, False),
