@@ -76,8 +76,32 @@ def _fmt(v) -> str:
     return str(v)
 
 
-def render_report(results: Sequence, git_commit: str = "", total_time: float | None = None) -> str:
-    """The HTML text for a list of raildyn.validation.CaseResult."""
+def _tables_html(tables) -> list[str]:
+    out = []
+    for tab in tables:
+        out.append(f"<h3>{_e(tab.title)}</h3><table><tr>" +
+                   "".join(f"<th>{_e(c)}</th>" for c in tab.columns) + "</tr>")
+        for i, row in enumerate(tab.rows):
+            st = tab.status[i] if i < len(tab.status) else None
+            cls = "" if st is None else ("pass" if st else "fail")
+            cells = "".join(f"<td class='v'>{_e(_fmt(x))}</td>" if j == tab.value_column else f"<td>{_e(_fmt(x))}</td>"
+                            for j, x in enumerate(row))
+            out.append(f"<tr class='{cls}'>{cells}</tr>")
+        out.append("</table>")
+        if tab.note:
+            out.append(f"<p><small>{_e(tab.note)}</small></p>")
+    return out
+
+
+def _plots_html(plots) -> list[str]:
+    return [f"<h4>{_e(title)}</h4><img alt='{_e(title)}' src='data:image/png;base64,"
+            f"{base64.b64encode(png).decode('ascii')}'/>" for title, png in plots]
+
+
+def render_report(results: Sequence, git_commit: str = "", total_time: float | None = None,
+                  sections: Sequence = ()) -> str:
+    """The HTML text for a list of raildyn.validation.CaseResult, followed by `sections`
+    (raildyn.validation.core.ReportSection: published measurements such as the fidelity map)."""
     now = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     versions = sorted({r.raildyn_version for r in results if r.raildyn_version})
     out = ["<!DOCTYPE html>", "<html><head><meta charset='utf-8'><title>raildyn validation report</title>",
@@ -97,6 +121,9 @@ def render_report(results: Sequence, git_commit: str = "", total_time: float | N
                    f"<td class='v'>{_badge(r.passed)}</td><td>{_e(r.status)}</td><td>{rt}</td>"
                    f"<td>{npass}/{len(r.checks)}</td><td><code>{_e(r.deck)}</code></td></tr>")
     out.append("</table>")
+    if sections:
+        out.append("<p>Also in this report: " + ", ".join(f"<a href='#{_e(sec.name)}'>{_e(sec.title)}</a>"
+                                                         for sec in sections) + ".</p>")
     for r in results:
         out.append(f"<section id='{_e(r.name)}'><h2>{_e(r.name)}: {_e(r.title)} {_badge(r.passed)}</h2>")
         out.append(f"<p>{_e(r.description)}</p>")
@@ -117,34 +144,26 @@ def render_report(results: Sequence, git_commit: str = "", total_time: float | N
                            f"<td class='v'>{'pass' if c.passed else 'FAIL'}</td><td>{_e(_fmt(c.value))}</td>"
                            f"<td>{_e(c.unit)}</td><td>{_e(c.limit)}</td><td>{_e(c.detail)}</td></tr>")
             out.append("</table>")
-        for tab in r.tables:
-            out.append(f"<h3>{_e(tab.title)}</h3><table><tr>" +
-                       "".join(f"<th>{_e(c)}</th>" for c in tab.columns) + "</tr>")
-            for i, row in enumerate(tab.rows):
-                st = tab.status[i] if i < len(tab.status) else None
-                cls = "" if st is None else ("pass" if st else "fail")
-                cells = "".join(f"<td class='v'>{_e(_fmt(x))}</td>" if j == 2 else f"<td>{_e(_fmt(x))}</td>"
-                                for j, x in enumerate(row))
-                out.append(f"<tr class='{cls}'>{cells}</tr>")
-            out.append("</table>")
-            if tab.note:
-                out.append(f"<p><small>{_e(tab.note)}</small></p>")
+        out += _tables_html(r.tables)
         if r.notes:
             out.append("<h3>Notes</h3><ul>" + "".join(f"<li>{_e(n)}</li>" for n in r.notes) + "</ul>")
         if r.assumptions:
             out.append("<h3>Assumptions (ASSUMPTION lines of the deck and its includes)</h3><ul>" +
                        "".join(f"<li>{_e(a)}</li>" for a in r.assumptions) + "</ul>")
-        for title, png in r.plots:
-            out.append(f"<h4>{_e(title)}</h4><img alt='{_e(title)}' src='data:image/png;base64,"
-                       f"{base64.b64encode(png).decode('ascii')}'/>")
+        out += _plots_html(r.plots)
+        out.append("</section>")
+    for sec in sections:
+        out.append(f"<section id='{_e(sec.name)}'><h2>{_e(sec.title)}</h2>")
+        out += [f"<p>{_e(par)}</p>" for par in sec.paragraphs]
+        out += _tables_html(sec.tables) + _plots_html(sec.plots)
         out.append("</section>")
     out.append("</body></html>")
     return "\n".join(out)
 
 
 def write_report(results: Sequence, path: str | os.PathLike, git_commit: str = "",
-                 total_time: float | None = None) -> Path:
+                 total_time: float | None = None, sections: Sequence = ()) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(render_report(results, git_commit, total_time), encoding="utf-8")
+    path.write_text(render_report(results, git_commit, total_time, sections), encoding="utf-8")
     return path

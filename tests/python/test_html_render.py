@@ -32,6 +32,7 @@ from raildyn.assess import assess
 from raildyn.assess.report import write_html
 from raildyn.report import figure_png, write_report
 from raildyn.validation import CaseResult, Check, Table
+from raildyn.validation.fidelity_map import published_section
 from test_assess_results_file import write_scene
 
 WIDTH = 1280
@@ -221,8 +222,11 @@ def test_validation_report_renders(tmp_path):
                                    bands=[("band", t, np.sin(2 * np.pi * t) - 0.1,
                                            np.sin(2 * np.pi * t) + 0.1)]))],
         notes=["a note"])
-    page = write_report([case], tmp_path / "report.html", git_commit="0000000")
-    check_page(page, tmp_path, 1)
+    # with the published fidelity map's section (raildyn.validation.fidelity_map): its tables
+    # and its Pareto plot, the second image of the page
+    page = write_report([case], tmp_path / "report.html", git_commit="0000000",
+                        sections=[published_section()])
+    check_page(page, tmp_path, 2)
 
 
 def test_the_checks_catch_broken_pages(tmp_path):

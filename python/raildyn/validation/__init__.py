@@ -25,9 +25,11 @@ docs/validation.md for the cases, rules and how to add one.
 
 Modules: ``core`` (what a case reports), ``references`` (reference data), ``signals``, ``runs``
 (decks, running a deck, the evaluation context), ``manchester``, ``planar`` (the independent
-linear models), ``tgv``, ``cases`` (the registry, running a case), ``cli``.
+linear models), ``tgv``, ``cases`` (the registry, running a case), ``fidelity_map`` (the
+published fidelity map, a section of the report), ``cli``.
 """
-from .core import INPUTS, REPO, VALIDATION, CaseError, CaseResult, Check, Table
+from .core import INPUTS, REPO, VALIDATION, CaseError, CaseResult, Check, ReportSection, Table
+from .fidelity_map import published_section
 from .references import PACKAGES, UNIT_SCALE, freeze_baseline, load_package_table, read_band_csv
 from .signals import compare_band_curve, growth_rate, half_cycle_peaks, oscillation_wavelength, window_mean
 from .runs import Case, Context, RunInfo, deck_assumptions, deck_files, deck_wheelsets, run_deck, run_notes

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from .cases import CASES, run_cases
 from .core import REPO
+from .fidelity_map import published_section
 from .references import freeze_baseline
 
 
@@ -83,7 +84,8 @@ def main(argv: list[str] | None = None) -> int:
     results = run_cases(names, a.out, a.exe, a.reuse, given)
     from ..report import write_report
     report = Path(a.report or Path(a.out) / "validation_report.html")
-    write_report(results, report, git_commit=_git_commit(), total_time=time.perf_counter() - t0)
+    write_report(results, report, git_commit=_git_commit(), total_time=time.perf_counter() - t0,
+                 sections=[published_section()])
     for r in results:
         print(r.summary())
     print(f"report: {report}")

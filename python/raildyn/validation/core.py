@@ -26,12 +26,14 @@ class Check:
 @dataclass
 class Table:
     """A comparison table for the report: column names and rows of cells (str or float);
-    ``status`` holds one bool per row (pass/fail colouring) or None."""
+    ``status`` holds one bool per row (pass/fail colouring of the row's ``value_column`` cell)
+    or None."""
     title: str
     columns: list[str]
     rows: list[list]
     status: list[bool | None] = field(default_factory=list)
     note: str = ""
+    value_column: int = 2
 
 
 @dataclass
@@ -64,6 +66,17 @@ class CaseResult:
             v = "" if c.value is None else f" = {c.value:.6g} {c.unit}".rstrip()
             lines.append(f"  [{'ok' if c.passed else 'FAIL'}] {c.name}{v} (limit {c.limit}) {c.detail}".rstrip())
         return "\n".join(lines)
+
+
+@dataclass
+class ReportSection:
+    """A section of the report that is not a case: published measurements shown with the
+    cases (the fidelity map). Paragraphs of text, tables and (title, PNG) plots."""
+    name: str
+    title: str
+    paragraphs: list[str] = field(default_factory=list)
+    tables: list[Table] = field(default_factory=list)
+    plots: list[tuple[str, bytes]] = field(default_factory=list, repr=False)
 
 
 class CaseError(RuntimeError):
