@@ -126,7 +126,8 @@ class Scene:
     #: run's CPU seconds: the table levels (and the knife-edge laws) are within the shared
     #: machine's noise of each other (Manchester 0.6-0.7 CPU s, TGV profile 1.7-2.0, knife edge
     #: 2.2-3.3 on 62ab550), a pick by measurement changed from run to run, and the extremes
-    #: matrix (bench/extremes/run.py) runs the integrators on the same level.
+    #: matrix (bench/extremes/run.py) runs the integrators on the same level. A run in which
+    #: another level is more than BASE_MARGIN faster notes it on the base's row.
     integrator_base: str = ""
 
 
@@ -301,6 +302,27 @@ def measure(exe, tmp, scene, level, t_end, tag, env, timeout, ref, manchester, k
     return row, s
 
 
+#: a declared integrator base (Scene.integrator_base) more than this factor slower than the
+#: fastest completed level of the same run is flagged in the published table (the machine's
+#: noise between runs of one level: ~10-20 % of CPU s)
+BASE_MARGIN = 1.25
+
+
+def stale_base_note(scene_rows: list, base_name: str) -> str:
+    """'' when the scene's integrator base is within BASE_MARGIN of the fastest completed level
+    of the same run, else a note naming the faster level: the declaration is out of date."""
+    done = [r for r in scene_rows if r.outcome == "completed" and not r.level.reference
+            and not r.level.name.startswith("table build")]
+    base = next((r for r in done if r.level.name == base_name), None)
+    if base is None:
+        return ""
+    fastest = min(done, key=lambda r: r.cpu)
+    if base.cpu <= BASE_MARGIN * fastest.cpu:
+        return ""
+    return (f"not the fastest level of this run: {fastest.level.name} took {fastest.cpu:.1f} CPU s against "
+            f"{base.cpu:.1f} (the integrators' base is declared: Scene.integrator_base)")
+
+
 def run_scene(exe, tmp, scene, quick, env, timeout, rows, save, integrators_on=None):
     """The scene's reference, its levels, and the integrators on its fastest level.
     integrators_on = a level's name: that level and the integrators on it only (no reference)."""
@@ -315,6 +337,7 @@ def run_scene(exe, tmp, scene, quick, env, timeout, rows, save, integrators_on=N
         print(f"   {ref_level.name}: {ref_row.outcome}, {ref_row.cpu:.1f} CPU s", flush=True)
     table_built = False
     base = base_series = None
+    scene_rows = []
     levels = [lv for lv in scene.levels if not lv.reference and integrators_on in (None, lv.name)]
     for i, level in enumerate(levels):
         if level.contact == "table" and not table_built:
@@ -332,6 +355,7 @@ def run_scene(exe, tmp, scene, quick, env, timeout, rows, save, integrators_on=N
                 rows.append(row)
             table_built = True
         row, series = measure(exe, tmp, scene, level, t_end, f"l{i}", env, timeout, ref, scene.manchester)
+        scene_rows.append(row)
         if integrators_on is None:
             rows.append(row)
             save()
@@ -339,6 +363,11 @@ def run_scene(exe, tmp, scene, quick, env, timeout, rows, save, integrators_on=N
               f"F {row.err_force:.2g} %, entries {row.err_entries:.2g} %", flush=True)
         if level.name == (integrators_on or scene.integrator_base) and row.outcome == "completed":
             base, base_series = level, series
+    note = "" if integrators_on else stale_base_note(scene_rows, scene.integrator_base)
+    if note:
+        next(r for r in scene_rows if r.level.name == scene.integrator_base).notes.append(note)
+        save()
+        print(f"   {scene.integrator_base}: {note}", flush=True)
     if base is None:
         return
     for j, level in enumerate(integrator_levels(scene, integrators_on)):

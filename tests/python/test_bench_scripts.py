@@ -67,6 +67,24 @@ def test_fidelity_map_measures_compares_and_renders(fidelity_map, build_dir, tmp
     assert "knife edge polach" in text and "knife edge fastsim" in text, text
 
 
+def test_fidelity_map_flags_a_stale_integrator_base(fidelity_map):
+    """The integrators run on a declared level (Scene.integrator_base); a run in which another
+    level is more than BASE_MARGIN faster says so in the base's notes, within it nothing."""
+    fm = fidelity_map
+    scene = next(s for s in fm.scene_list() if s.key == "manchester")
+    levels = {lv.name: lv for lv in scene.levels}
+
+    def row(name, cpu, outcome="completed"):
+        return fm.Row(scene.key, levels[name], outcome=outcome, cpu=cpu)
+    base = scene.integrator_base
+    assert fm.stale_base_note([row(base, 0.6), row("table fastsim", 0.55), row("reference", 0.1)], base) == ""
+    note = fm.stale_base_note([row(base, 0.9), row("table polach", 0.6), row("table fastsim", 0.7)], base)
+    assert note.startswith("not the fastest level of this run: table polach took 0.6 CPU s against 0.9"), note
+    # a faster run that did not complete does not count, nor does a base that did not complete
+    assert fm.stale_base_note([row(base, 0.9), row("table polach", 0.1, "FAILURE")], base) == ""
+    assert fm.stale_base_note([row(base, 0.9, "FAILURE"), row("table polach", 0.1)], base) == ""
+
+
 def test_manchester_friction_measures(friction, build_dir, tmp_path):
     mf = friction
     deck = tmp_path / "short.nml"
