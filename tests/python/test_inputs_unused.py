@@ -341,6 +341,29 @@ BASE = """&simulation t_end = 0.002, speed = 20.0, equilibrium = 'none' /
 
 
 @pytest.mark.inputs_unused
+def test_a_study_option_is_accepted_with_a_warning(raildyn_exe, tmp_path):
+    """strip_normal_force 'centroid' and 'potential' are study options, not fidelity levels
+    (docs/performance.md "Which fidelity level for what"): a deck that selects one runs, and
+    check and run warn once per wheelset that selects it, naming its file and line; the default
+    'distributed', written out, gives no warning."""
+    scene = tmp_path / "scene.nml"
+    scene.write_text(f"&include file = '{REPO / 'inputs' / 'manchester_v1_tc1.nml'}' /\n"
+                     "&simulation t_end = 0.002 /\n"
+                     "&wheelset name = 'w1', strip_normal_force = 'centroid' /\n"
+                     "&wheelset name = 'w2', strip_normal_force = 'potential' /\n"
+                     "&wheelset name = 'w3', strip_normal_force = 'distributed' /\n")
+    chk, rn = check_and_run(raildyn_exe, scene, tmp_path)
+    for res in (chk, rn):
+        assert res.returncode == 0, res.stderr
+        warnings = [l for l in res.stderr.splitlines() if "study option" in l]
+        assert len(warnings) == 2, res.stderr
+        assert all(w.startswith("raildyn: warning:") for w in warnings)
+        assert "scene.nml:3: &wheelset 'strip_normal_force': 'centroid' is a study option" in warnings[0]
+        assert "scene.nml:4: &wheelset 'strip_normal_force': 'potential' is a study option" in warnings[1]
+        assert "not a fidelity level" in warnings[0] and "Which fidelity level for what" in warnings[0]
+
+
+@pytest.mark.inputs_unused
 def test_an_override_that_changes_the_kind_warns_at_both_places(raildyn_exe, tmp_path):
     """A deck that includes a base deck and switches its wheelset's creep law: the base's
     FASTSIM option is not read; check and run say so (a warning naming both lines), the run

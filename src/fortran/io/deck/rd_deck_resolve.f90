@@ -487,6 +487,10 @@ contains
       call check_unused(entities(i))
       if (allocated(error)) return
     end do
+    ! values that are study options, not fidelity levels: accepted, with a warning
+    do i = 1, nent
+      call note_study_values(entities(i))
+    end do
 
   contains
 
@@ -541,6 +545,24 @@ contains
         end do
       end associate
     end subroutine check_unused
+
+    !> A warning for every given value of e that its parameter marks as a study option
+    !> (param_schema_t%study_values), naming where it was written.
+    subroutine note_study_values(e)
+      type(deck_entity_t), intent(in) :: e
+      integer :: j
+      associate (g => schema%groups(e%group))
+        do j = 1, size(g%params)
+          if (.not. allocated(g%params(j)%study_values) .or. .not. e%values(j)%given) cycle
+          if (.not. allocated(e%values(j)%strings)) cycle
+          associate (v => e%values(j)%strings(1)%s)
+            if (any([(v == g%params(j)%study_values(k)%s, k = 1, size(g%params(j)%study_values))])) &
+              notes = [notes, deck_string_t(where_value(schema, sources, e, j) // "'" // v // &
+                       "' is a study option, not a fidelity level: " // g%params(j)%study_note)]
+          end associate
+        end do
+      end associate
+    end subroutine note_study_values
 
     !> True when e's selector parameter js was given in a later file than its parameter j
     !> (an override that replaced the kind reading j).

@@ -55,6 +55,11 @@ module rd_deck_schema
     !> (rd_deck_resolve check_unused): nothing in a deck is silently ignored.
     character(len=:), allocatable :: used_with
     type(deck_string_t), allocatable :: used_values(:)
+    !> Allowed values that are study options, not fidelity levels a user picks for production
+    !> runs: a deck that selects one is accepted with a warning (rd_deck_resolve) ending in
+    !> `study_note`.
+    type(deck_string_t), allocatable :: study_values(:)
+    character(len=:), allocatable :: study_note
   end type param_schema_t
 
   type :: group_schema_t
@@ -233,6 +238,17 @@ contains
     q%used_with = selector
     q%used_values = strs(values)
   end function only_with
+
+  !> p with the allowed values `values` ('|'-separated) marked as study options (see
+  !> param_schema_t%study_values).
+  function study_options(p, values, note) result(q)
+    type(param_schema_t), intent(in) :: p
+    character(len=*), intent(in) :: values, note
+    type(param_schema_t) :: q
+    q = p
+    q%study_values = strs(values)
+    q%study_note = note
+  end function study_options
 
   function unique_name(meaning) result(p)
     character(len=*), intent(in) :: meaning
@@ -417,7 +433,7 @@ contains
       only_with(pstr('contact_geometry', 'profile contact geometry: the strip search online, or pre-computed ' // &
              'tables of it (docs/theory_contact_geometry.md section 10)', default='strips', allowed='strips|table'), &
                 'contact', 'profile'), &
-      only_with(pstr('strip_normal_force', 'online strips: the normal force: distributed (every ' // &
+      only_with(study_options(pstr('strip_normal_force', 'online strips: the normal force: distributed (every ' // &
              'penetrating strip pushes along its own depth gradient with a stiffness that reproduces Hertz ' // &
              'on Hertzian gaps: a conservative, smooth force field; the patches take their loads from their ' // &
              'strips and CONTACT''s reference point; docs/theory_flange_chatter.md section 14), centroid ' // &
@@ -428,7 +444,10 @@ contains
              'direction can leave the surface normals at conformal flange contact (not for derailment ' // &
              'studies); section 13); centroid and potential are study options, not fidelity levels ' // &
              '(docs/performance.md "Which fidelity level for what")', default='distributed', &
-             allowed='distributed|centroid|potential'), &
+             allowed='distributed|centroid|potential'), 'centroid|potential', &
+             'for comparisons with earlier results and studies of the flange contact; centroid is not ' // &
+             'conservative where the contact jumps, potential can point outside the surface normals at ' // &
+             'conformal flange contact (docs/performance.md "Which fidelity level for what")'), &
                 'contact_geometry', 'strips'), &
       only_with(preal('table_shift_step', 'm', 'contact tables: node spacing in the lateral shift (the build ' // &
               'time grows as 1/step: about 1-4 s at 1e-4)', default=1.0e-4_wp, &
