@@ -55,7 +55,8 @@ module rd_contact_table
   use rd_strip_contact, only: strip_wheel_contact
   implicit none
   private
-  public :: contact_table_options_t, contact_table_t, build_contact_table, table_wheel_contact
+  public :: contact_table_options_t, contact_table_t, build_contact_table, table_wheel_contact, node_probe
+  public :: PROBE_SHIFT_SHARES
   public :: split_wheel_surface, TABLE_SLOTS, TABLE_SLOT_TREAD, TABLE_SLOT_FLANGE, TABLE_SLOT_FACE, TABLE_QUANTITIES
 
   integer, parameter :: TABLE_SLOTS = 3
@@ -80,6 +81,10 @@ module rd_contact_table
   integer, parameter :: Q_WHEEL_X = 13        !< wheel point, intermediate frame x (the lead) [m]
   integer, parameter :: Q_RAIL_X = 14         !< rail point X minus reference point X [m]
   integer, parameter :: TABLE_QUANTITIES = 14
+  !> node_probe's shifts at zero roll and yaw, as shares of the table's shift_max (then one
+  !> rolled and one yawed pose at 0.3 of it: half the roll and yaw ranges)
+  real(wp), parameter :: PROBE_SHIFT_SHARES(*) = [-0.5_wp, -0.25_wp, 0.0_wp, 0.15_wp, 0.25_wp, 0.3_wp, &
+                                                  0.35_wp, 0.4_wp, 0.5_wp]
   !> parity in the yaw (x -> -x symmetry): -1 for the longitudinal positions, +1 for the rest
   real(wp), parameter :: yaw_parity(TABLE_QUANTITIES) = [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, &
     1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, -1.0_wp, -1.0_wp]
@@ -220,6 +225,59 @@ contains
 
   !> values(iu, j, q, slot) of every slot at the shift nodes and the poses (phis(j), psis(j))
   !> of the wheelset, and their u-slopes.
+  !> The node evaluation the table is built from (tabulate_node: touch height, strip contact,
+  !> patch data) at fixed probe poses, every slot: numbers that change when that code's output
+  !> changes. rd_contact_table_cache hashes them into the table's key, so a table built by a
+  !> runner whose strip geometry gave other nodes is never read (a change of the strips that
+  !> left TABLE_FORMAT as it was once let an older table be used; measured 2026-11-30). Probes
+  !> across the shift range at zero roll and yaw, and one rolled and one yawed pose near the
+  !> flange. Layout: the three cuts of the wheel's parts, then for each pose and slot a flag
+  !> (1 found, 0 no rail under the part, -1 the search failed) and the node's TABLE_QUANTITIES
+  !> values (zeros unless found). About 50 node evaluations (milliseconds); a change of the
+  !> table's own assembly (slopes, yaw changes) still needs a TABLE_FORMAT change.
+  subroutine node_probe(wheel, rail, options, probe, error)
+    type(wheel_surface_t), intent(in) :: wheel
+    type(rail_surface_t), intent(in) :: rail
+    type(contact_table_options_t), intent(in) :: options
+    real(wp), allocatable, intent(out) :: probe(:)
+    type(error_t), allocatable, intent(out) :: error
+    type(wheel_surface_t) :: parts(TABLE_SLOTS)
+    type(error_t), allocatable :: node_error
+    real(wp) :: cuts(3), row(TABLE_QUANTITIES), poses(3, size(PROBE_SHIFT_SHARES) + 2)
+    logical :: found
+    integer :: i, k, slot
+    call split_wheel_surface(wheel, [options%slot_angle, options%root_angle, options%face_angle], parts, cuts, error)
+    if (allocated(error)) then
+      call error_context(error, 'contact table probe')
+      return
+    end if
+    ! (shift, roll, yaw)
+    do i = 1, size(PROBE_SHIFT_SHARES)
+      poses(:, i) = [PROBE_SHIFT_SHARES(i) * options%shift_max, 0.0_wp, 0.0_wp]
+    end do
+    poses(:, size(PROBE_SHIFT_SHARES) + 1) = [0.3_wp * options%shift_max, 0.5_wp * options%roll_max, 0.0_wp]
+    poses(:, size(PROBE_SHIFT_SHARES) + 2) = [0.3_wp * options%shift_max, 0.0_wp, 0.5_wp * options%yaw_max]
+    allocate (probe(3 + size(poses, 2) * TABLE_SLOTS * (1 + TABLE_QUANTITIES)))
+    probe(1:3) = cuts
+    k = 3
+    do i = 1, size(poses, 2)
+      do slot = 1, TABLE_SLOTS
+        call tabulate_node(parts(slot), rail, poses(1, i), poses(2, i), poses(3, i), wheel%y_tape, &
+                           wheel%nominal_radius, options%reference_approach, row, found, node_error)
+        if (allocated(node_error)) then
+          probe(k + 1) = -1
+          row = 0
+          deallocate (node_error)
+        else
+          probe(k + 1) = merge(1, 0, found)
+          if (.not. found) row = 0
+        end if
+        probe(k + 2:k + 1 + TABLE_QUANTITIES) = row
+        k = k + 1 + TABLE_QUANTITIES
+      end do
+    end do
+  end subroutine node_probe
+
   subroutine tabulate_grid(parts, rail, table, phis, psis, values, slopes, error)
     type(wheel_surface_t), intent(in) :: parts(TABLE_SLOTS)
     type(rail_surface_t), intent(in) :: rail

@@ -3,11 +3,13 @@
 !> inputs changed is never found, and a file that does not hold exactly the expected key,
 !> format and sizes is ignored (rebuilt and replaced), never used.
 !>
-!> Key: 64-bit FNV-1a over the table format version, the table options and every array of
-!> the two contact-ready surfaces (rd_contact_surfaces). The surfaces are the profiles'
-!> content after placement (gauge, gauge depth, inclination, precant, back-to-back, flange
-!> back, nominal radius) and pre-processing (resampling, curvature filter), so these are all
-!> covered without listing them one by one.
+!> Key: 64-bit FNV-1a over the table format version, the table options, every array of
+!> the two contact-ready surfaces (rd_contact_surfaces) and the node evaluation's output at
+!> fixed probe poses (rd_contact_table node_probe). The surfaces are the profiles' content
+!> after placement (gauge, gauge depth, inclination, precant, back-to-back, flange back,
+!> nominal radius) and pre-processing (resampling, curvature filter), so these are all
+!> covered without listing them one by one; the probe covers the code that turns them into
+!> nodes (a table of a runner whose strip geometry differs has another key).
 !>
 !> Directory: $RAILDYN_CACHE_DIR if set, else $XDG_CACHE_HOME/raildyn, else
 !> $HOME/.cache/raildyn (the XDG base directory rule); created when missing. A directory
@@ -21,13 +23,13 @@ module rd_contact_table_cache
   use rd_error, only: error_t
   use rd_contact_surfaces, only: wheel_surface_t, rail_surface_t
   use rd_contact_table, only: contact_table_t, contact_table_options_t, build_contact_table, &
-    TABLE_SLOTS, TABLE_QUANTITIES
+    node_probe, TABLE_SLOTS, TABLE_QUANTITIES
   implicit none
   private
   public :: obtain_contact_table, contact_table_key, contact_table_cache_dir, contact_table_file
 
   !> Change whenever the table's content or meaning changes (code version of the format).
-  character(len=*), parameter :: TABLE_FORMAT = 'raildyn contact table 5'
+  character(len=*), parameter :: TABLE_FORMAT = 'raildyn contact table 6'
 
   interface
     function c_mkdir(path, mode) result(status) bind(C, name='mkdir')
@@ -64,7 +66,8 @@ contains
     character(len=16) :: key
     character(len=:), allocatable :: dir, file
     logical :: found
-    key = contact_table_key(wheel, rail, options)
+    call contact_table_key(wheel, rail, options, key, error)
+    if (allocated(error)) return
     if (present(directory)) then
       dir = directory
       if (.not. make_directories(dir)) dir = ''
@@ -85,12 +88,17 @@ contains
   end subroutine obtain_contact_table
 
   !> 16 hex digits of the FNV-1a hash of everything the table depends on.
-  function contact_table_key(wheel, rail, options) result(key)
+  subroutine contact_table_key(wheel, rail, options, key, error)
     type(wheel_surface_t), intent(in) :: wheel
     type(rail_surface_t), intent(in) :: rail
     type(contact_table_options_t), intent(in) :: options
-    character(len=16) :: key
+    character(len=16), intent(out) :: key
+    type(error_t), allocatable, intent(out) :: error
     integer(int64) :: h
+    real(wp), allocatable :: probe(:)
+    key = ''
+    call node_probe(wheel, rail, options, probe, error)
+    if (allocated(error)) return
     h = fnv_offset()
     call add_text(h, TABLE_FORMAT)
     call add_reals(h, [options%shift_max, options%shift_step, options%roll_max, real(options%roll_nodes, wp), &
@@ -102,8 +110,9 @@ contains
     call add_reals(h, [real(rail%n, wp), rail%y_gauge_point, rail%u_gauge_point, real(rail%coarse_stride, wp)])
     call add_reals(h, rail%u); call add_reals(h, rail%y); call add_reals(h, rail%z)
     call add_reals(h, rail%ny); call add_reals(h, rail%nz); call add_reals(h, rail%kappa)
+    call add_reals(h, probe)
     write (key, '(z16.16)') h
-  end function contact_table_key
+  end subroutine contact_table_key
 
   !> The cache directory (created when missing), '' when none can be had.
   function contact_table_cache_dir() result(dir)

@@ -18,7 +18,8 @@ program test_contact_table
   use rd_contact_surfaces, only: track_placement_t, surface_options_t
   use rd_contact_geometry, only: contact_geometry_t, build_strip_contact, build_table_contact, wheel_contact, &
     SIDE_LEFT, SIDE_RIGHT
-  use rd_contact_table, only: contact_table_options_t, contact_table_t, table_wheel_contact
+  use rd_contact_table, only: contact_table_options_t, contact_table_t, table_wheel_contact, node_probe, &
+    PROBE_SHIFT_SHARES, TABLE_SLOTS, TABLE_SLOT_TREAD, TABLE_QUANTITIES
   use rd_contact_table_cache, only: obtain_contact_table
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
   use rd_contact_patch, only: wheel_contact_t, PATCH_TREAD
@@ -176,11 +177,45 @@ contains
     call check(.not. hit .and. all(t3%values == t1%values), 'cache: a truncated file is not used (rebuilt)')
     call obtain_contact_table(strip%wheel, strip%rail, topt, t3, error, from_cache=hit)
     call check(hit, 'cache: the rebuilt table replaced the bad file')
+    call probe_is_the_tables_nodes(t1)
     open (newunit=unit, file=file1, status='old', iostat=ios)
     if (ios == 0) close (unit, status='delete')
     open (newunit=unit, file=file2, status='old', iostat=ios)
     if (ios == 0) close (unit, status='delete')
   end subroutine cache_checks
+
+  !> The key hashes node_probe (rd_contact_table_cache): the node evaluation at fixed poses,
+  !> so that a table built by a runner whose strip geometry gives other nodes is not read.
+  !> That holds when the probe is what the table holds there: at zero roll and yaw its rows
+  !> are the table's nodes at those shifts, value for value, for every slot with a rail under
+  !> it; and the tread (always on the rail) is among them.
+  subroutine probe_is_the_tables_nodes(t)
+    type(contact_table_t), intent(in) :: t
+    real(wp), allocatable :: probe(:)
+    integer :: i, slot, k, iu, j0, n_found
+    logical :: same
+    call node_probe(strip%wheel, strip%rail, topt, probe, error)
+    if (allocated(error)) error stop error%message
+    call check(size(probe) == 3 + (size(PROBE_SHIFT_SHARES) + 2) * TABLE_SLOTS * (1 + TABLE_QUANTITIES), &
+               'cache key probe: its fixed layout')
+    j0 = nint(-t%phi0 / t%dphi) + 1          ! the zero-roll node
+    same = abs(t%phi0 + (j0 - 1) * t%dphi) < 1.0e-15_wp
+    n_found = 0
+    k = 3
+    do i = 1, size(PROBE_SHIFT_SHARES)
+      iu = nint((PROBE_SHIFT_SHARES(i) * topt%shift_max - t%u0) / t%du) + 1
+      do slot = 1, TABLE_SLOTS
+        if (probe(k + 1) == 1) then
+          n_found = n_found + 1
+          same = same .and. all(probe(k + 2:k + 1 + TABLE_QUANTITIES) == t%values(:, iu, j0, slot))
+        end if
+        if (slot == TABLE_SLOT_TREAD) same = same .and. probe(k + 1) == 1
+        k = k + 1 + TABLE_QUANTITIES
+      end do
+    end do
+    call check(same .and. n_found >= size(PROBE_SHIFT_SHARES), 'cache key probe: its rows at zero roll and ' // &
+               'yaw are the table''s nodes at those shifts (every slot found there; the tread at every shift)')
+  end subroutine probe_is_the_tables_nodes
 
   !> Wheelset height at which the left wheel of `geo` touches (signed max penetration 0).
   real(wp) function touch_z(geo, y, phi, psi) result(z)

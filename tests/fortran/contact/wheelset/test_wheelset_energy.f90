@@ -99,35 +99,33 @@ program test_wheelset_energy
     call check(ratio < 1.0e-4_wp, 'distributed strip force conservative at y = ' // trim(mm_text(y_cases(ic))) // &
                ' mm: |loop work| / sum |dW| < 1e-4')
   end do
-  do ic = 1, size(y_cases)
-    call loop_ratio(4, y_cases(ic), ratio)
-    if (ic <= 2) then
-      call check(ratio < 5.0e-3_wp, 'classic strip force conservative on ' // merge('tread ', 'flange', ic == 1) // &
-                 ': |loop work| / sum |dW| < 5e-3')
-    else if (ic == 3) then
-      call check(ratio < 5.0e-2_wp, 'classic strip force nearly conservative at the tread / flange root jump: ' // &
-                 '|loop work| / sum |dW| < 5e-2')
-    else
-      call check(ratio > 1.0e-2_wp, 'the classic strip force at the flange root / flange jump (y = 6.25 mm) is ' // &
-                 'not conservative: |loop work| / sum |dW| > 1e-2 (the loop probes the jump)')
-    end if
-  end do
-  do ic = 1, size(y_cases)
-    call loop_ratio(8, y_cases(ic), ratio)
-    if (ic <= 2) then
-      call check(ratio < 5.0e-3_wp, 'contact tables nearly conservative on ' // merge('tread ', 'flange', ic == 1) // &
-                 ': |loop work| / sum |dW| < 5e-3')
-    else if (ic == 3) then
-      call check(ratio < 5.0e-2_wp, 'contact tables nearly conservative at the tread / flange root jump: ' // &
-                 '|loop work| / sum |dW| < 5e-2')
-    else
-      call check(ratio > 1.0e-2_wp, 'the contact tables at the flange root / flange jump (y = 6.25 mm) are ' // &
-                 'not conservative: |loop work| / sum |dW| > 1e-2 (the loop probes the jump)')
-    end if
-  end do
+  call check_patch_force_loops(4, 'the classic strip force')
+  call check_patch_force_loops(8, 'the contact tables')
   call test_summary('test_wheelset_energy')
 
 contains
+
+  !> Loops of a patch force (the centroid force and the tables that tabulate its patches) at
+  !> the four shifts of y_cases: nearly conservative on the tread and the flange (< 5e-3) and at
+  !> the tread / flange root jump (< 5e-2); not at the flange root / flange jump (> 1e-2: the
+  !> loop probes the jump).
+  subroutine check_patch_force_loops(iw, what)
+    integer, intent(in) :: iw
+    character(len=*), intent(in) :: what
+    do ic = 1, size(y_cases)
+      call loop_ratio(iw, y_cases(ic), ratio)
+      if (ic <= 2) then
+        call check(ratio < 5.0e-3_wp, what // ' nearly conservative on ' // merge('tread ', 'flange', ic == 1) // &
+                   ': |loop work| / sum |dW| < 5e-3')
+      else if (ic == 3) then
+        call check(ratio < 5.0e-2_wp, what // ' nearly conservative at the tread / flange root jump: ' // &
+                   '|loop work| / sum |dW| < 5e-2')
+      else
+        call check(ratio > 1.0e-2_wp, what // ' at the flange root / flange jump (y = 6.25 mm): ' // &
+                   'not conservative, |loop work| / sum |dW| > 1e-2 (the loop probes the jump)')
+      end if
+    end do
+  end subroutine check_patch_force_loops
 
   !> pose at rigid contact for (y, yaw), lowered by `lowering`
   function loaded_pose(y, psi) result(q)
