@@ -223,8 +223,6 @@ contains
     end function node_major
   end subroutine build_contact_table
 
-  !> values(iu, j, q, slot) of every slot at the shift nodes and the poses (phis(j), psis(j))
-  !> of the wheelset, and their u-slopes.
   !> The node evaluation the table is built from (tabulate_node: touch height, strip contact,
   !> patch data) at fixed probe poses, every slot: numbers that change when that code's output
   !> changes. rd_contact_table_cache hashes them into the table's key, so a table built by a
@@ -278,6 +276,8 @@ contains
     end do
   end subroutine node_probe
 
+  !> values(iu, j, q, slot) of every slot at the shift nodes and the poses (phis(j), psis(j))
+  !> of the wheelset, and their u-slopes.
   subroutine tabulate_grid(parts, rail, table, phis, psis, values, slopes, error)
     type(wheel_surface_t), intent(in) :: parts(TABLE_SLOTS)
     type(rail_surface_t), intent(in) :: rail

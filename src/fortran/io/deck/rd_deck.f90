@@ -15,7 +15,7 @@
 module rd_deck
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT, RD_ERR_INTERNAL
-  use rd_deck_text, only: deck_string_t, int_to_str, path_dir, append_string
+  use rd_deck_text, only: deck_string_t, int_to_str, path_dir, append_string, in_list
   use rd_deck_schema, only: deck_schema_t, build_deck_schema, find_group, find_param, &
                             type_text, write_schema_markdown, PT_REAL, PT_INTEGER, PT_STRING, &
                             PT_LOGICAL, PT_REAL_ARRAY, PT_STRING_LIST
@@ -384,16 +384,6 @@ contains
       if (in_list(path, files)) return
       call append_string(files, path)
     end subroutine add
-
-    pure logical function in_list(word, list)
-      character(len=*), intent(in) :: word
-      type(deck_string_t), intent(in) :: list(:)
-      integer :: j
-      in_list = .false.
-      do j = 1, size(list)
-        if (list(j)%s == word) in_list = .true.
-      end do
-    end function in_list
   end function deck_input_files
 
   function deck_file_name(self) result(name)

@@ -11,7 +11,8 @@
 module rd_deck_resolve
   use rd_kinds, only: wp
   use rd_error, only: error_t, make_error, RD_ERR_INPUT
-  use rd_deck_text, only: deck_string_t, single_string, int_to_str, real_to_str, path_join, path_stem
+  use rd_deck_text, only: deck_string_t, single_string, int_to_str, real_to_str, path_join, path_stem, &
+    append_string, in_list
   use rd_deck_schema, only: deck_schema_t, param_schema_t, find_group, &
                             find_param, suggest_name, used_text, PT_REAL, PT_INTEGER, PT_STRING, &
                             PT_LOGICAL, PT_REAL_ARRAY, PT_STRING_LIST, DEF_REQUIRED, DEF_VALUE, &
@@ -502,7 +503,7 @@ contains
     !> the former kind are reported in `notes` (a warning of check and run), not refused.
     subroutine check_unused(e)
       type(deck_entity_t), intent(in) :: e
-      integer :: j, js, k
+      integer :: j, js
       logical :: read
       character(len=:), allocatable :: why
       associate (g => schema%groups(e%group))
@@ -519,10 +520,7 @@ contains
               why = 'with ' // p%used_with // ' (' // location_text(sources, e%values(js)%source, &
                     e%values(js)%line) // ')'
             case default
-              read = .false.
-              do k = 1, size(p%used_values)
-                if (sval(e, p%used_with) == p%used_values(k)%s) read = .true.
-              end do
+              read = in_list(sval(e, p%used_with), p%used_values)
               why = 'with ' // p%used_with // " = '" // sval(e, p%used_with) // "'"
               if (e%values(js)%given) then
                 why = why // ' (' // location_text(sources, e%values(js)%source, e%values(js)%line) // ')'
@@ -556,9 +554,9 @@ contains
           if (.not. allocated(g%params(j)%study_values) .or. .not. e%values(j)%given) cycle
           if (.not. allocated(e%values(j)%strings)) cycle
           associate (v => e%values(j)%strings(1)%s)
-            if (any([(v == g%params(j)%study_values(k)%s, k = 1, size(g%params(j)%study_values))])) &
-              notes = [notes, deck_string_t(where_value(schema, sources, e, j) // "'" // v // &
-                       "' is a study option, not a fidelity level: " // g%params(j)%study_note)]
+            if (in_list(v, g%params(j)%study_values)) &
+              call append_string(notes, where_value(schema, sources, e, j) // "'" // v // &
+                                 "' is a study option, not a fidelity level: " // g%params(j)%study_note)
           end associate
         end do
       end associate

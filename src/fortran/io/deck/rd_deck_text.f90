@@ -13,7 +13,7 @@ module rd_deck_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
-  public :: deck_string_t, append_string, joined, single_string, to_lower, int_to_str, real_to_str, edit_distance
+  public :: deck_string_t, append_string, in_list, joined, single_string, to_lower, int_to_str, real_to_str, edit_distance
   public :: is_integer_text, is_real_text, text_to_real, text_to_integer, text_to_logical
   public :: path_dir, path_base, path_stem, path_join, is_absolute_path
 
@@ -38,6 +38,17 @@ contains
     grown(n + 1)%s = s
     call move_alloc(grown, list)
   end subroutine append_string
+
+  !> True when `word` is one of the strings of `list`.
+  pure logical function in_list(word, list)
+    character(len=*), intent(in) :: word
+    type(deck_string_t), intent(in) :: list(:)
+    integer :: j
+    in_list = .false.
+    do j = 1, size(list)
+      if (list(j)%s == word) in_list = .true.
+    end do
+  end function in_list
 
   !> The strings of `list`, each between `quote`s, separated by ', ' ('' for none).
   pure function joined(list, quote) result(t)
